@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Idempotent setup: Debian packages (apt), the venv with pinned PyPI packages, and the catkin
+# workspace (outside the repo). Each step is skipped when it is already done.
+set -eu
+# shellcheck source=paths.sh
+. "$(dirname "$0")/paths.sh"
+cd "$CAN_SEEKER_REPO"
+say() { printf 'setup: %s\n' "$*"; }
+mkdir -p "$CAN_SEEKER_HOME"
+log="$CAN_SEEKER_HOME/setup.log"
+exec 9>"$CAN_SEEKER_HOME/setup.lock"
+flock 9
+
+# 1. Debian packages.
+mapfile -t wanted < <(grep -v '^\s*\(#\|$\)' tools/apt-packages.txt)
+missing=()
+for pkg in "${wanted[@]}"; do
+  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q 'install ok installed' || missing+=("$pkg")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  say "installing ${#missing[@]} Debian packages: ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >>"$log" 2>&1 \
+    || { tail -n 30 "$log"; say "apt-get install failed (log: $log)"; exit 1; }
+else
+  say "Debian packages: all ${#wanted[@]} installed"
+fi
+
+# 2. The venv (sees Debian's rospy, cv_bridge, OpenCV, numpy) with pinned PyPI packages.
+req_stamp="$CAN_SEEKER_VENV/.requirements.sha1"
+req_sum=$(sha1sum requirements.txt | cut -d' ' -f1)
+if [ ! -x "$CAN_SEEKER_VENV/bin/python3" ] || [ "$(cat "$req_stamp" 2>/dev/null)" != "$req_sum" ]; then
+  say "creating the venv at $CAN_SEEKER_VENV"
+  /usr/bin/python3 -m venv --system-site-packages "$CAN_SEEKER_VENV"
+  "$CAN_SEEKER_VENV/bin/python3" -m pip install -q --disable-pip-version-check -r requirements.txt >>"$log" 2>&1 \
+    || { tail -n 30 "$log"; say "pip install failed (log: $log)"; exit 1; }
+  "$CAN_SEEKER_VENV/bin/python3" -c 'import pybullet, rospy, cv_bridge, cv2, numpy' \
+    || { say "the venv cannot import pybullet/rospy/cv_bridge"; exit 1; }
+  echo "$req_sum" >"$req_stamp"
+else
+  say "venv: up to date ($CAN_SEEKER_VENV)"
+fi
+
+# 3. The catkin workspace, with the repo linked in as src/can_seeker.
+mkdir -p "$CAN_SEEKER_WS/src"
+if [ "$(readlink "$CAN_SEEKER_WS/src/can_seeker" 2>/dev/null)" != "$CAN_SEEKER_REPO" ]; then
+  ln -sfn "$CAN_SEEKER_REPO" "$CAN_SEEKER_WS/src/can_seeker"
+fi
+build_sum=$( { printf '%s\n' "$CAN_SEEKER_REPO" "$CAN_SEEKER_VENV";
+  find package.xml CMakeLists.txt setup.py msg srv cfg scripts test -maxdepth 1 -type f | LC_ALL=C sort;
+  cat package.xml CMakeLists.txt setup.py msg/* srv/* cfg/* 2>/dev/null; } | sha1sum | cut -d' ' -f1)
+build_stamp="$CAN_SEEKER_WS/.build.sha1"
+if [ ! -f "$CAN_SEEKER_WS/devel/setup.bash" ] || [ "$(cat "$build_stamp" 2>/dev/null)" != "$build_sum" ]; then
+  say "building the catkin workspace at $CAN_SEEKER_WS"
+  (
+    export PATH="$CAN_SEEKER_VENV/bin:$PATH"
+    cd "$CAN_SEEKER_WS"
+    catkin_make -DPYTHON_EXECUTABLE="$CAN_SEEKER_VENV/bin/python3" -DCATKIN_ENABLE_TESTING=ON \
+      -DCMAKE_BUILD_TYPE=Release
+  ) >>"$log" 2>&1 || { tail -n 40 "$log"; say "catkin_make failed (log: $log)"; exit 1; }
+  echo "$build_sum" >"$build_stamp"
+else
+  say "catkin workspace: up to date ($CAN_SEEKER_WS)"
+fi
+say "done. For a ROS shell: make shell (or: source tools/env.sh)"
