@@ -57,7 +57,7 @@ if [ ! -f "$CAN_SEEKER_WS/devel/setup.bash" ] || [ "$(cat "$build_stamp" 2>/dev/
   (
     export PATH="$CAN_SEEKER_VENV/bin:$PATH"
     cd "$CAN_SEEKER_WS"
-    catkin_make -DPYTHON_EXECUTABLE="$CAN_SEEKER_VENV/bin/python3" -DCATKIN_ENABLE_TESTING=ON \
+    catkin_make --force-cmake -DPYTHON_EXECUTABLE="$CAN_SEEKER_VENV/bin/python3" -DCATKIN_ENABLE_TESTING=ON \
       -DCMAKE_BUILD_TYPE=Release
   ) >>"$log" 2>&1 || { tail -n 40 "$log"; say "catkin_make failed (log: $log)"; exit 1; }
   echo "$build_sum" >"$build_stamp"

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Run every test the way ROS CI does (catkin_make run_tests, two at a time), then sum up the
+# JUnit results: unit tests (pytest), catkin_lint and each rostest.
+set -eu
+# shellcheck source=env.sh
+. "$(dirname "$0")/env.sh"
+cd "$CAN_SEEKER_REPO"
+results="$CAN_SEEKER_WS/build/test_results/can_seeker"
+log="$CAN_SEEKER_HOME/run_tests.log"
+rm -rf "$results"
+expected=(pytest-unit.xml lint-catkin_lint.xml)
+for test_file in test/*.test; do
+  [ -e "$test_file" ] && expected+=("rostest-test_$(basename "$test_file" .test).xml")
+done
+echo "test: running ${#expected[@]} test targets (log: $log)"
+start=$(date +%s)
+make -C "$CAN_SEEKER_WS/build" -j2 run_tests >"$log" 2>&1 || true
+echo "test: finished in $(( $(date +%s) - start )) s"
+if ! python3 tools/test_summary.py "$results" "${expected[@]}"; then
+  echo "test: FAILED; the end of $log:"
+  tail -n 60 "$log"
+  exit 1
+fi
