@@ -1,0 +1,50 @@
+"""Velocity and acceleration limits for a planar (linear, angular) velocity command.
+
+Kept apart from the controller's state machine so the same limits apply whatever the state
+asks for, and so they can be tested on their own.
+"""
+import math
+from dataclasses import dataclass
+from typing import Tuple
+
+
+@dataclass(frozen=True)
+class TwistLimits:
+    """Bounds on a differential-drive command.
+
+    ``max_forward`` and ``max_reverse`` bound the linear speed (m/s, both positive),
+    ``max_angular`` the turn rate (rad/s), ``linear_accel`` and ``angular_accel`` how fast each
+    may change (m/s^2, rad/s^2).
+    """
+
+    max_forward: float
+    max_reverse: float
+    max_angular: float
+    linear_accel: float
+    angular_accel: float
+
+
+def clamp(value: float, low: float, high: float) -> float:
+    """``value`` limited to [low, high]."""
+    return max(low, min(high, value))
+
+
+def step_toward(current: float, target: float, max_step: float) -> float:
+    """Move from ``current`` toward ``target`` by at most ``max_step``."""
+    return current + clamp(target - current, -max_step, max_step)
+
+
+def limit_twist(previous: Tuple[float, float], desired: Tuple[float, float], dt_s: float,
+                limits: TwistLimits) -> Tuple[float, float]:
+    """The (linear m/s, angular rad/s) command to send ``dt_s`` after ``previous`` was sent.
+
+    ``desired`` is first clipped to the speed limits, then approached no faster than the
+    acceleration limits allow. A negative or non-finite ``dt_s`` (a clock that jumped) permits
+    no change at all rather than an unbounded one.
+    """
+    if not math.isfinite(dt_s) or dt_s < 0.0:
+        dt_s = 0.0
+    linear = clamp(desired[0], -limits.max_reverse, limits.max_forward)
+    angular = clamp(desired[1], -limits.max_angular, limits.max_angular)
+    return (step_toward(previous[0], linear, limits.linear_accel * dt_s),
+            step_toward(previous[1], angular, limits.angular_accel * dt_s))

@@ -1,0 +1,330 @@
+"""The stop-near-can state machine, transition by transition, and its control law."""
+import math
+from types import SimpleNamespace
+
+import pytest
+
+from can_seeker.control import (PARAMS, CameraPose, Controller, Sighting, State,
+                                camera_pose_from_transform, dead_band, detection_problem,
+                                sighting_from_detection)
+
+DEFAULTS = {spec.name: spec.default for spec in PARAMS}
+STOP = DEFAULTS['stop_distance']
+DT = 1.0 / DEFAULTS['rate']
+
+
+def make_controller(**overrides):
+    return Controller(SimpleNamespace(**dict(DEFAULTS, **overrides)))
+
+
+def ahead(gap_m, bearing_deg=0.0):
+    return Sighting(gap_m, math.radians(bearing_deg))
+
+
+def run(controller, sighting, start_s, duration_s):
+    """Feed the same sighting at the control rate; return the last command and the end time."""
+    now = start_s
+    command = None
+    while now < start_s + duration_s - 1e-9:
+        controller.observe(sighting, now)
+        command = controller.command(now)
+        now += DT
+    return command, now
+
+
+# Geometry ------------------------------------------------------------------------------------
+
+def test_sighting_straight_ahead_gap_is_range_minus_camera_setback():
+    camera = CameraPose(0.12, 0.0, 0.0)
+    sighting = sighting_from_detection(True, 0.5, 0.0, camera, 0.165, 0.033)
+    assert sighting.gap_m == pytest.approx(0.5 + 0.12 - 0.165)
+    assert sighting.bearing_rad == pytest.approx(0.0)
+
+
+def test_sighting_off_axis_uses_can_centre_seen_from_base_link():
+    camera = CameraPose(0.12, 0.0, 0.0)
+    bearing = math.radians(20.0)
+    sighting = sighting_from_detection(True, 1.0, bearing, camera, 0.165, 0.033)
+    centre = (0.12 + 1.033 * math.cos(bearing), 1.033 * math.sin(bearing))
+    assert sighting.gap_m == pytest.approx(math.hypot(*centre) - 0.033 - 0.165)
+    assert sighting.bearing_rad == pytest.approx(math.atan2(centre[1], centre[0]))
+    assert 0.0 < sighting.bearing_rad < bearing
+
+
+def test_sighting_without_range_keeps_the_side():
+    sighting = sighting_from_detection(True, math.nan, -0.3, CameraPose(0.12, 0.0, 0.0),
+                                       0.165, 0.033)
+    assert not sighting.has_range
+    assert sighting.bearing_rad == pytest.approx(-0.3)
+
+
+@pytest.mark.parametrize('found, range_m, bearing', [
+    (False, 1.0, 0.0), (True, 1.0, math.nan), (True, -0.2, 0.0), (True, math.inf, 0.0)])
+def test_no_sighting_from_empty_or_malformed_detection(found, range_m, bearing):
+    assert sighting_from_detection(found, range_m, bearing, CameraPose(0.12, 0.0, 0.0),
+                                   0.165, 0.033) is None
+
+
+def test_detection_problem_names_malformed_fields_only():
+    assert detection_problem(False, math.nan, math.nan) is None
+    assert detection_problem(True, math.nan, 0.1) is None
+    assert 'bearing' in detection_problem(True, 1.0, math.nan)
+    assert 'range' in detection_problem(True, -1.0, 0.0)
+
+
+def quaternion_from_axes(x_axis, y_axis, z_axis):
+    """(x, y, z, w) of the rotation whose columns are the given frame axes (trace > -1)."""
+    rotation = [[x_axis[row], y_axis[row], z_axis[row]] for row in range(3)]
+    qw = math.sqrt(1.0 + rotation[0][0] + rotation[1][1] + rotation[2][2]) / 2.0
+    return ((rotation[2][1] - rotation[1][2]) / (4.0 * qw),
+            (rotation[0][2] - rotation[2][0]) / (4.0 * qw),
+            (rotation[1][0] - rotation[0][1]) / (4.0 * qw), qw)
+
+
+def test_camera_pose_from_optical_frame_pitched_down():
+    # camera at (0.12, 0, 0.25) pitched 25 deg down: optical x is the robot's right,
+    # optical z forward and down, optical y = z cross x (down and back)
+    pitch = math.radians(25.0)
+    quaternion = quaternion_from_axes((0.0, -1.0, 0.0),
+                                      (-math.sin(pitch), 0.0, -math.cos(pitch)),
+                                      (math.cos(pitch), 0.0, -math.sin(pitch)))
+    pose = camera_pose_from_transform((0.12, 0.0, 0.25), quaternion)
+    assert (pose.x, pose.y) == (0.12, 0.0)
+    assert pose.yaw == pytest.approx(0.0, abs=1e-9)
+
+
+def test_camera_pose_from_optical_frame_looking_left():
+    quaternion = quaternion_from_axes((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
+    pose = camera_pose_from_transform((0.1, 0.05, 0.3), quaternion)
+    assert (pose.x, pose.y) == (0.1, 0.05)
+    assert pose.yaw == pytest.approx(math.pi / 2.0)
+
+
+def test_dead_band():
+    assert dead_band(0.004, 0.005, 1.5, 0.03) == 0.0
+    assert dead_band(0.006, 0.005, 1.5, 0.03) == 0.03
+    assert dead_band(-0.006, 0.005, 1.5, 0.03) == -0.03
+    assert dead_band(0.2, 0.005, 1.5, 0.03) == pytest.approx(0.3)
+
+
+# Transitions ---------------------------------------------------------------------------------
+
+def test_starts_in_search_turning_left():
+    controller = make_controller()
+    assert controller.state is State.SEARCH
+    controller.observe(None, 0.0)
+    command, _ = run(controller, None, 0.0, 2.0)
+    assert command[0] == 0.0
+    assert command[1] == pytest.approx(DEFAULTS['search_angular'])
+
+
+def test_search_turns_toward_side_seen_without_range():
+    controller = make_controller()
+    command, _ = run(controller, Sighting(math.nan, math.radians(-20.0)), 0.0, 2.0)
+    assert controller.state is State.SEARCH
+    assert command == (0.0, pytest.approx(-DEFAULTS['search_angular']))
+
+
+def test_search_to_approach_on_ranged_sighting():
+    controller = make_controller()
+    controller.observe(ahead(1.0), 0.0)
+    assert controller.state is State.APPROACH
+
+
+def test_approach_drives_forward_and_steers_toward_bearing():
+    controller = make_controller()
+    command, _ = run(controller, ahead(1.5, 5.0), 0.0, 3.0)
+    assert controller.state is State.APPROACH
+    assert command[0] == pytest.approx(DEFAULTS['max_linear'] * (1 - 5.0 / 25.0))
+    assert command[1] == pytest.approx(DEFAULTS['angular_gain'] * math.radians(5.0))
+
+
+def test_approach_turns_in_place_when_can_is_far_off_axis():
+    controller = make_controller()
+    command, _ = run(controller, ahead(1.0, -40.0), 0.0, 2.0)
+    assert command[0] == 0.0
+    assert command[1] == pytest.approx(-DEFAULTS['max_angular'])
+
+
+def test_approach_slows_down_near_target_but_keeps_minimum_speed():
+    controller = make_controller()
+    far, _ = run(controller, ahead(STOP + 0.5), 0.0, 3.0)
+    near, _ = run(controller, ahead(STOP + 0.08), 3.0, 1.0)
+    close, _ = run(controller, ahead(STOP + 0.007), 4.0, 1.0)
+    assert far[0] == pytest.approx(DEFAULTS['max_linear'])
+    assert near[0] == pytest.approx(min(1.5 * 0.08, math.sqrt(2 * 0.5 * 0.08)))
+    assert close[0] == pytest.approx(DEFAULTS['min_linear'])
+
+
+def test_approach_speed_profile_can_brake_within_remaining_gap():
+    controller = make_controller(linear_gain=10.0)
+    for gap_error in (0.02, 0.05, 0.1, 0.2):
+        controller.sighting = ahead(STOP + gap_error)
+        controller.state = State.APPROACH
+        linear, _ = controller.desired()
+        braking_distance = linear ** 2 / (2 * DEFAULTS['max_linear_accel'])
+        assert braking_distance <= gap_error + 1e-12
+
+
+def test_approach_backs_up_when_too_close_and_never_drives_forward():
+    controller = make_controller()
+    command, _ = run(controller, ahead(STOP - 0.05), 0.0, 2.0)
+    assert command[0] == pytest.approx(-0.075)
+    moving = make_controller()
+    run(moving, ahead(1.0), 0.0, 3.0)
+    moving.observe(ahead(STOP - 0.003), 3.0)
+    assert moving.command(3.0 + DT)[0] == 0.0
+
+
+def test_approach_to_stopped_when_within_tolerance_and_at_rest():
+    controller = make_controller()
+    run(controller, ahead(STOP + 0.3), 0.0, 3.0)
+    assert controller.state is State.APPROACH
+    command, _ = run(controller, ahead(STOP + 0.004, 0.5), 3.0, 1.0)
+    assert controller.state is State.STOPPED
+    assert command == (0.0, 0.0)
+
+
+def test_approach_stays_while_bearing_is_outside_tolerance():
+    controller = make_controller()
+    command, _ = run(controller, ahead(STOP, 3.0), 0.0, 2.0)
+    assert controller.state is State.APPROACH
+    assert command[0] == 0.0
+    assert command[1] == pytest.approx(max(DEFAULTS['min_angular'], 2.0 * math.radians(3.0)))
+
+
+def test_approach_to_lost_when_can_leaves_view_and_turns_toward_where_it_left():
+    controller = make_controller()
+    run(controller, ahead(1.0, -10.0), 0.0, 1.0)
+    controller.observe(None, 1.0)
+    assert controller.state is State.LOST
+    command, _ = run(controller, None, 1.0, 2.0)
+    assert command[0] == 0.0
+    assert command[1] == pytest.approx(-DEFAULTS['search_angular'])
+
+
+def test_approach_to_lost_on_detection_without_range():
+    controller = make_controller()
+    controller.observe(ahead(1.0, 10.0), 0.0)
+    controller.observe(Sighting(math.nan, math.radians(25.0)), 0.1)
+    assert controller.state is State.LOST
+    assert controller.turn_sign == 1.0
+
+
+def test_lost_to_approach_when_can_is_seen_again():
+    controller = make_controller()
+    controller.observe(ahead(1.0), 0.0)
+    controller.observe(None, 0.1)
+    controller.observe(ahead(0.9), 0.2)
+    assert controller.state is State.APPROACH
+
+
+def test_lost_to_search_after_lost_timeout():
+    controller = make_controller(lost_timeout=1.0)
+    controller.observe(ahead(1.0, 5.0), 0.0)
+    controller.observe(None, 0.05)
+    run(controller, None, 0.05, 0.9)
+    assert controller.state is State.LOST
+    command, _ = run(controller, None, 0.95, 0.3)
+    assert controller.state is State.SEARCH
+    assert command[1] == pytest.approx(DEFAULTS['search_angular'])
+
+
+def stopped_controller():
+    controller = make_controller()
+    run(controller, ahead(STOP + 0.002), 0.0, 1.0)
+    assert controller.state is State.STOPPED
+    return controller
+
+
+def test_stopped_holds_inside_hysteresis():
+    controller = stopped_controller()
+    command, _ = run(controller, ahead(STOP + 0.04, 5.0), 1.0, 1.0)
+    assert controller.state is State.STOPPED
+    assert command == (0.0, 0.0)
+
+
+def test_stopped_holds_when_can_is_not_seen():
+    controller = stopped_controller()
+    command, _ = run(controller, None, 1.0, 1.0)
+    assert controller.state is State.STOPPED
+    assert command == (0.0, 0.0)
+
+
+def test_stopped_to_approach_when_can_moves_away():
+    controller = stopped_controller()
+    command, _ = run(controller, ahead(STOP + 0.3), 1.0, 1.0)
+    assert controller.state is State.APPROACH
+    assert command[0] > 0.0
+
+
+def test_stopped_to_approach_when_can_moves_sideways():
+    controller = stopped_controller()
+    controller.observe(ahead(STOP, 8.0), 1.0)
+    assert controller.state is State.APPROACH
+
+
+def test_reset_returns_to_search_at_rest():
+    controller = make_controller()
+    run(controller, ahead(1.0, -5.0), 0.0, 2.0)
+    controller.reset()
+    assert controller.state is State.SEARCH
+    assert controller.last_command == (0.0, 0.0)
+    assert controller.turn_sign == 1.0
+
+
+# Watchdog and limits -------------------------------------------------------------------------
+
+def test_no_detection_yet_gives_zero():
+    controller = make_controller()
+    assert controller.command(0.0) == (0.0, 0.0)
+    assert controller.command(5.0) == (0.0, 0.0)
+
+
+def test_stale_detection_gives_immediate_zero_in_any_state():
+    controller = make_controller()
+    command, now = run(controller, ahead(1.5), 0.0, 3.0)
+    assert command[0] > 0.3
+    assert controller.command(now + 0.4)[0] > 0.0
+    assert controller.command(now + 0.55) == (0.0, 0.0)
+    assert controller.state is State.APPROACH
+
+
+def test_commands_respect_acceleration_limit():
+    controller = make_controller()
+    controller.observe(ahead(2.0), 0.0)
+    previous = controller.command(0.0)
+    for step in range(1, 40):
+        controller.observe(ahead(2.0), step * DT)
+        current = controller.command(step * DT)
+        assert abs(current[0] - previous[0]) <= DEFAULTS['max_linear_accel'] * DT + 1e-12
+        previous = current
+
+
+def test_closed_loop_point_robot_stops_within_tolerance_without_overshoot():
+    """A kinematic robot driven by the controller from 2 m, can 30 deg to the left."""
+    controller = make_controller()
+    x, y, heading = 0.0, 0.0, 0.0
+    can = (2.0 * math.cos(math.radians(30)), 2.0 * math.sin(math.radians(30)))
+    min_gap = math.inf
+    now = 0.0
+    for _ in range(int(60.0 / DT)):
+        dx, dy = can[0] - x, can[1] - y
+        gap = math.hypot(dx, dy) - 0.033 - 0.165
+        bearing = math.atan2(dy, dx) - heading
+        bearing = math.atan2(math.sin(bearing), math.cos(bearing))
+        visible = abs(bearing) < math.radians(28)
+        controller.observe(Sighting(gap, bearing) if visible else None, now)
+        linear, angular = controller.command(now)
+        x += linear * math.cos(heading) * DT
+        y += linear * math.sin(heading) * DT
+        heading += angular * DT
+        min_gap = min(min_gap, gap)
+        now += DT
+        if controller.state is State.STOPPED:
+            break
+    assert controller.state is State.STOPPED
+    assert abs(gap - STOP) <= DEFAULTS['distance_tolerance']
+    assert abs(bearing) <= math.radians(DEFAULTS['bearing_tolerance_deg'])
+    assert min_gap >= STOP - DEFAULTS['distance_tolerance']
+    assert now < 15.0
