@@ -1,0 +1,243 @@
+"""Red mask, clean-up, largest blob and moments centroid on synthetic images."""
+import cv2
+import numpy as np
+import pytest
+
+from can_seeker.vision import (DETECTOR_PARAMS, Blob, DetectorSettings, RedCanDetector,
+                               centroid_from_moments, draw_annotation, largest_blob)
+
+WIDTH, HEIGHT = 320, 240
+SUBPIXEL_BITS = 4
+
+
+def hsv_colour(hue, saturation, value):
+    """BGR tuple of an OpenCV HSV colour."""
+    pixel = cv2.cvtColor(np.uint8([[[hue, saturation, value]]]), cv2.COLOR_HSV2BGR)[0, 0]
+    return tuple(int(channel) for channel in pixel)
+
+
+def scene(background=(128, 128, 128), width=WIDTH, height=HEIGHT):
+    return np.full((height, width, 3), background, np.uint8)
+
+
+def draw_disk(image, centre, radius, colour):
+    """Anti-aliased disk at a sub-pixel centre (px)."""
+    scale = 1 << SUBPIXEL_BITS
+    cv2.circle(image, (int(round(centre[0] * scale)), int(round(centre[1] * scale))),
+               int(round(radius * scale)), colour, -1, cv2.LINE_AA, SUBPIXEL_BITS)
+    return image
+
+
+def add_noise(image, sigma, seed=0):
+    noise = np.random.default_rng(seed).normal(0.0, sigma, image.shape)
+    return np.clip(image + noise, 0, 255).astype(np.uint8)
+
+
+def detect(image):
+    return RedCanDetector().detect(image)
+
+
+@pytest.mark.parametrize('hue', [0, 4, 175, 179])
+def test_red_disk_found_with_subpixel_centroid(hue):
+    centre = (141.3, 97.6)
+    image = add_noise(draw_disk(scene(), centre, 22, hsv_colour(hue, 230, 200)), 6)
+    result = detect(image)
+    assert result.found
+    assert abs(result.blob.centroid_x - centre[0]) <= 0.5
+    assert abs(result.blob.centroid_y - centre[1]) <= 0.5
+    assert result.blob.area == pytest.approx(np.pi * 22 ** 2, rel=0.08)
+
+
+def test_bounding_box_encloses_the_disk():
+    blob = detect(draw_disk(scene(), (100, 120), 20, (0, 0, 220))).blob
+    assert blob.x == pytest.approx(80, abs=1)
+    assert blob.y == pytest.approx(100, abs=1)
+    assert blob.width == pytest.approx(41, abs=2)
+    assert blob.height == pytest.approx(41, abs=2)
+
+
+@pytest.mark.parametrize('name, bgr', [
+    ('dark red in shade', (15, 15, 90)),
+    ('crimson', (60, 20, 220)),
+    ('tomato red', (71, 99, 255)),
+    ('faded red', (95, 85, 210)),
+    ('coke red', (36, 30, 228)),
+])
+def test_shades_of_red_are_found(name, bgr):
+    result = detect(add_noise(draw_disk(scene((90, 110, 120)), (200, 60), 25, bgr), 5))
+    assert result.found, name
+    assert np.hypot(result.blob.centroid_x - 200, result.blob.centroid_y - 60) < 1.0
+
+
+@pytest.mark.parametrize('name, bgr', [
+    ('orange, hue 15', hsv_colour(15, 255, 255)),
+    ('magenta, hue 150', hsv_colour(150, 255, 255)),
+    ('hot pink', (180, 105, 255)),
+    ('saddle brown', (19, 69, 139)),
+    ('walnut wood', (43, 67, 93)),
+    ('pine wood', (135, 184, 222)),
+    ('light skin', (172, 219, 255)),
+    ('medium skin', (105, 172, 224)),
+    ('dark skin', (36, 85, 141)),
+    ('pinkish skin', (148, 160, 229)),
+    ('flushed skin', (120, 140, 220)),
+    ('pink-ish wall', (200, 200, 235)),
+    ('grey', (128, 128, 128)),
+    ('white', (255, 255, 255)),
+])
+def test_non_red_colours_are_not_found(name, bgr):
+    image = add_noise(draw_disk(scene((200, 200, 200)), (160, 120), 60, bgr), 6)
+    assert not detect(image).found, name
+
+
+def test_plain_skin_scene_with_lighting_gradient_is_not_found():
+    rows = np.linspace(0.55, 1.0, HEIGHT)[:, None, None]
+    skin = np.array((120, 160, 225), float) * rows * np.ones((1, WIDTH, 1))
+    assert not detect(add_noise(skin, 8)).found
+
+
+def test_red_object_under_lighting_gradient_is_found_on_it():
+    image = scene((60, 90, 110))
+    cv2.rectangle(image, (40, 50), (150, 200), (30, 30, 200), -1)
+    columns = np.linspace(0.4, 1.0, WIDTH)[None, :, None]
+    image = add_noise(image * columns, 6)
+    blob = detect(image).blob
+    assert blob is not None
+    assert 40 <= blob.centroid_x <= 150 and 50 <= blob.centroid_y <= 200
+
+
+@pytest.mark.parametrize('image', [
+    np.zeros((0, 0, 3), np.uint8),
+    np.zeros((HEIGHT, WIDTH, 3), np.uint8),
+    np.full((HEIGHT, WIDTH, 3), 255, np.uint8),
+])
+def test_empty_black_or_white_image_is_not_found(image):
+    result = RedCanDetector().detect(image, want_edges=True)
+    assert not result.found
+    assert result.mask.shape == image.shape[:2]
+    assert result.edges.shape == image.shape[:2]
+
+
+def test_speckle_noise_is_removed():
+    rng = np.random.default_rng(1)
+    image = scene()
+    rows, columns = rng.integers(0, HEIGHT, 400), rng.integers(0, WIDTH, 400)
+    image[rows, columns] = (0, 0, 255)
+    result = detect(image)
+    assert not result.found
+    assert np.count_nonzero(result.mask) == 0
+
+
+def test_speckles_do_not_move_the_centroid():
+    image = draw_disk(scene(), (250.0, 180.0), 15, (0, 0, 230))
+    rng = np.random.default_rng(2)
+    image[rng.integers(0, HEIGHT, 300), rng.integers(0, WIDTH, 300)] = (0, 0, 255)
+    blob = detect(image).blob
+    assert abs(blob.centroid_x - 250.0) <= 0.5 and abs(blob.centroid_y - 180.0) <= 0.5
+
+
+def test_specular_highlight_inside_the_can_is_filled():
+    image = draw_disk(scene(), (160.0, 120.0), 30, (0, 0, 210))
+    image[110:113, 150:153] = 255
+    blob = detect(image).blob
+    assert blob.area == pytest.approx(np.pi * 30 ** 2, rel=0.05)
+
+
+def test_largest_of_two_blobs_wins():
+    image = draw_disk(draw_disk(scene(), (60, 60), 10, (0, 0, 220)), (220, 150), 25, (0, 0, 220))
+    blob = detect(image).blob
+    assert blob.centroid_x == pytest.approx(220, abs=0.5)
+    assert blob.centroid_y == pytest.approx(150, abs=0.5)
+
+
+def test_blob_below_the_minimum_area_is_ignored():
+    image = draw_disk(scene(), (60, 60), 3, (0, 0, 220))
+    assert not detect(image).found
+    settings = DetectorSettings.defaults()
+    detector = RedCanDetector(DetectorSettings(**dict(settings.__dict__, min_area_fraction=0.0)))
+    assert detector.detect(image).found
+
+
+def test_non_wrapping_hue_range_finds_other_colours():
+    image = draw_disk(scene(), (100, 100), 20, hsv_colour(60, 255, 200))
+    values = dict(DetectorSettings.defaults().__dict__, hue_min=50, hue_max=70)
+    blob = RedCanDetector(DetectorSettings(**values)).detect(image).blob
+    assert blob.centroid_x == pytest.approx(100, abs=0.5)
+
+
+def test_settings_can_be_replaced_between_frames():
+    image = draw_disk(scene(), (100, 100), 20, hsv_colour(175, 255, 200))
+    detector = RedCanDetector()
+    assert detector.detect(image).found
+    detector.settings = DetectorSettings(**dict(detector.settings.__dict__, hue_min=179))
+    assert not detector.detect(image).found
+
+
+def test_buffers_follow_a_change_of_image_size():
+    detector = RedCanDetector()
+    small = detector.detect(draw_disk(scene(), (50, 50), 10, (0, 0, 220))).blob
+    large = detector.detect(draw_disk(scene(width=640, height=480), (400, 300), 30,
+                                      (0, 0, 220))).blob
+    assert (small.centroid_x, large.centroid_x) == (pytest.approx(50, abs=0.5),
+                                                    pytest.approx(400, abs=0.5))
+
+
+@pytest.mark.parametrize('method', ['canny', 'sobel', 'laplacian'])
+def test_edges_lie_on_the_disk_outline(method):
+    settings = DetectorSettings(**dict(DetectorSettings.defaults().__dict__, edge_method=method))
+    image = draw_disk(scene((40, 40, 40)), (160, 120), 40, (220, 220, 220))
+    edges = RedCanDetector(settings).detect(image, want_edges=True).edges
+    assert edges.dtype == np.uint8 and edges.shape == (HEIGHT, WIDTH)
+    rows, columns = np.nonzero(edges > 40)
+    radii = np.hypot(columns - 160, rows - 120)
+    assert len(radii) > 100
+    assert np.all(np.abs(radii - 40) < 3)
+
+
+def test_edges_are_skipped_unless_wanted():
+    assert RedCanDetector().detect(scene()).edges is None
+
+
+def test_centroid_from_moments_guards_empty_region():
+    assert centroid_from_moments(cv2.moments(np.zeros((5, 5), np.uint8))) is None
+    region = np.zeros((5, 5), np.uint8)
+    region[1, 3] = 1
+    assert centroid_from_moments(cv2.moments(region, binaryImage=True)) == (3.0, 1.0)
+
+
+def test_largest_blob_of_empty_mask_is_none():
+    assert largest_blob(np.zeros((10, 10), np.uint8), 1.0) is None
+
+
+def test_blob_edge_contacts():
+    blob = Blob(10.0, 10.0, 100.0, x=0, y=5, width=20, height=15)
+    assert blob.bottom_row == 19
+    assert blob.touches_side(100) and not blob.touches_bottom(100)
+    assert Blob(10.0, 10.0, 100.0, 80, 90, 20, 10).touches_side(100)
+    assert Blob(10.0, 10.0, 100.0, 80, 90, 20, 10).touches_bottom(100)
+    assert not Blob(10.0, 10.0, 100.0, 10, 10, 20, 10).touches_side(100)
+
+
+def test_annotation_marks_the_centroid_and_leaves_the_input_alone():
+    image = draw_disk(scene(), (160, 120), 30, (0, 0, 220))
+    original = image.copy()
+    result = detect(image)
+    annotated = draw_annotation(image, result, 0.42)
+    assert np.array_equal(image, original)
+    assert annotated.shape == image.shape and annotated.dtype == np.uint8
+    assert tuple(annotated[120, 160]) == (0, 255, 0)
+    assert not np.array_equal(annotated[0:40, 0:150], image[0:40, 0:150])
+
+
+def test_annotation_without_a_blob_or_range():
+    image = scene()
+    assert draw_annotation(image, detect(image), float('nan')).shape == image.shape
+    red = draw_disk(scene(), (160, 120), 30, (0, 0, 220))
+    assert draw_annotation(red, detect(red), float('nan')).shape == image.shape
+
+
+def test_settings_fields_match_the_parameters():
+    assert list(DetectorSettings.__dataclass_fields__) == [spec.name for spec in DETECTOR_PARAMS]
+    defaults = DetectorSettings.defaults()
+    for spec in DETECTOR_PARAMS:
+        assert spec.coerce(getattr(defaults, spec.name)) == spec.default
