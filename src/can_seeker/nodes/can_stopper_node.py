@@ -1,0 +1,120 @@
+"""can_stopper: drive the robot to the can seen by image_converter and stop just in front of it.
+
+Subscribes ``/image_converter/detection`` (can_seeker/CanDetection), publishes ``/cmd_vel``
+(geometry_msgs/Twist) from a fixed-rate timer and ``~state`` (std_msgs/String, latched);
+``~reset`` (std_srvs/Empty) returns to SEARCH. The behaviour is :mod:`can_seeker.control`.
+"""
+import threading
+import time
+
+import rospy
+import tf2_ros
+from geometry_msgs.msg import Twist
+from std_msgs.msg import String
+from std_srvs.srv import Empty, EmptyResponse
+
+from can_seeker.control import (PARAMS, CameraPose, Controller, camera_pose_from_transform,
+                                detection_problem, sighting_from_detection)
+from can_seeker.msg import CanDetection
+from can_seeker.params import read_params
+
+BASE_FRAME = 'base_link'
+SHUTDOWN_ZERO_COUNT = 5
+SHUTDOWN_ZERO_SPACING_S = 0.02
+
+
+def twist(linear, angular):
+    """A planar Twist (m/s, rad/s)."""
+    message = Twist()
+    message.linear.x = linear
+    message.angular.z = angular
+    return message
+
+
+class CanStopperNode:
+    """Glue between ROS and :class:`can_seeker.control.Controller`."""
+
+    def __init__(self):
+        self.params = read_params(PARAMS, rospy.get_param, rospy.logwarn)
+        self.controller = Controller(self.params)
+        self.lock = threading.Lock()
+        self.camera_poses = {}
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
+        self.state_pub = rospy.Publisher('~state', String, queue_size=1, latch=True)
+        self.published_state = None
+        self.publish_state()
+        rospy.Service('~reset', Empty, self.on_reset)
+        rospy.Subscriber('/image_converter/detection', CanDetection, self.on_detection,
+                         queue_size=1)
+        rospy.on_shutdown(self.on_shutdown)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / self.params.rate), self.on_timer)
+
+    def camera_pose(self, frame_id):
+        """The camera's floor pose in base_link, from TF once per frame, else from params."""
+        if frame_id in self.camera_poses:
+            return self.camera_poses[frame_id]
+        try:
+            transform = self.tf_buffer.lookup_transform(BASE_FRAME, frame_id, rospy.Time(0))
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                tf2_ros.ExtrapolationException, tf2_ros.InvalidArgumentException) as error:
+            rospy.logwarn_throttle(5.0, 'can_stopper: no TF %s -> %r yet (%s); using camera_x '
+                                   '%.3f m' % (BASE_FRAME, frame_id, error, self.params.camera_x))
+            return CameraPose(self.params.camera_x, 0.0, 0.0)
+        translation, rotation = transform.transform.translation, transform.transform.rotation
+        pose = camera_pose_from_transform((translation.x, translation.y, translation.z),
+                                          (rotation.x, rotation.y, rotation.z, rotation.w))
+        rospy.loginfo('can_stopper: camera %r at x=%.3f y=%.3f m, yaw %.4f rad in %s'
+                      % (frame_id, pose.x, pose.y, pose.yaw, BASE_FRAME))
+        self.camera_poses[frame_id] = pose
+        return pose
+
+    def on_detection(self, detection):
+        problem = detection_problem(detection.found, detection.range, detection.bearing)
+        if problem:
+            rospy.logerr_throttle(2.0, 'can_stopper: ignoring the can in this detection: %s'
+                                  % problem)
+        camera = self.camera_pose(detection.header.frame_id) if detection.found else None
+        sighting = sighting_from_detection(detection.found, detection.range, detection.bearing,
+                                           camera, self.params.robot_radius,
+                                           self.params.can_radius)
+        with self.lock:
+            self.controller.observe(sighting, rospy.get_time())
+
+    def on_timer(self, _event):
+        now = rospy.get_time()
+        with self.lock:
+            stale = self.controller.is_stale(now) and self.controller.last_message_s is not None
+            linear, angular = self.controller.command(now)
+        if stale:
+            rospy.logwarn_throttle(5.0, 'can_stopper: no detection for over %.2f s: zero Twist'
+                                   % self.params.detection_timeout)
+        self.cmd_pub.publish(twist(linear, angular))
+        self.publish_state()
+
+    def publish_state(self):
+        state = self.controller.state.value
+        if state != self.published_state:
+            self.published_state = state
+            self.state_pub.publish(String(data=state))
+            rospy.loginfo('can_stopper: %s' % state)
+
+    def on_reset(self, _request):
+        with self.lock:
+            self.controller.reset()
+        self.publish_state()
+        return EmptyResponse()
+
+    def on_shutdown(self):
+        """Stop the timer and send zero a few times (wall-clock spacing: sim time may be gone)."""
+        self.timer.shutdown()
+        for _ in range(SHUTDOWN_ZERO_COUNT):
+            self.cmd_pub.publish(twist(0.0, 0.0))
+            time.sleep(SHUTDOWN_ZERO_SPACING_S)
+
+
+def main():
+    rospy.init_node('can_stopper')
+    CanStopperNode()
+    rospy.spin()

@@ -1,0 +1,67 @@
+"""Shared by the can_stopper rostest nodes: feed CanDetection messages, record /cmd_vel."""
+import threading
+import time
+
+import rospy
+from geometry_msgs.msg import Twist
+from std_msgs.msg import String
+
+from can_seeker.msg import CanDetection
+
+FRAME = 'camera_optical_frame'
+
+
+def detection(range_m, bearing_rad):
+    """A found can at ``range_m`` (camera to near surface) and ``bearing_rad``."""
+    message = CanDetection()
+    message.header.stamp = rospy.Time.now()
+    message.header.frame_id = FRAME
+    message.found = True
+    message.range = range_m
+    message.bearing = bearing_rad
+    message.image_width, message.image_height = 320, 240
+    return message
+
+
+class Harness:
+    """Publishes detections and records every /cmd_vel with its wall-clock arrival time."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.commands = []
+        self.state = None
+        self.detection_pub = rospy.Publisher('/image_converter/detection', CanDetection,
+                                             queue_size=1)
+        rospy.Subscriber('/cmd_vel', Twist, self.on_cmd_vel)
+        rospy.Subscriber('/can_stopper/state', String, self.on_state)
+
+    def on_cmd_vel(self, message):
+        with self.lock:
+            self.commands.append((time.monotonic(), message.linear.x, message.angular.z))
+
+    def on_state(self, message):
+        self.state = message.data
+
+    def commands_since(self, start):
+        """(arrival s, linear m/s, angular rad/s) of the commands received after ``start``."""
+        with self.lock:
+            return [command for command in self.commands if command[0] > start]
+
+    def wait_for_connections(self, timeout_s=10.0):
+        """Wait until can_stopper subscribes to the detections and publishes commands."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if self.detection_pub.get_num_connections() > 0 and self.commands_since(0.0):
+                return True
+            time.sleep(0.05)
+        return False
+
+    def feed(self, range_m, bearing_rad, duration_s, rate_hz=15.0):
+        """Publish the same detection for ``duration_s``; return when the last one was sent."""
+        end = time.monotonic() + duration_s
+        last = None
+        while time.monotonic() < end:
+            self.detection_pub.publish(detection(range_m, bearing_rad))
+            last = time.monotonic()
+            time.sleep(1.0 / rate_hz)
+        return last
