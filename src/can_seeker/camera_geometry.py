@@ -1,9 +1,13 @@
 """Pinhole camera geometry shared by the simulator (to publish camera_info) and the detector.
 
-Conventions: image pixels (u right, v down), optical frame z forward, x right, y down (REP-103).
+Conventions: image pixels (u right, v down, pixel centres at integers), optical frame z
+forward, x right, y down (REP-103); the floor frame (e.g. base_link) has z up and the floor at
+z = 0. The detector turns a blob into the range and bearing of an upright can with these.
 """
 import math
 from dataclasses import dataclass
+
+import numpy as np
 
 
 @dataclass(frozen=True)
@@ -36,3 +40,160 @@ def intrinsics_from_vertical_fov(width: int, height: int, fov_deg: float) -> Cam
     """
     focal_px = (height / 2.0) / math.tan(math.radians(fov_deg) / 2.0)
     return CameraIntrinsics(width, height, focal_px, focal_px, (width - 1) / 2.0, (height - 1) / 2.0)
+
+
+def intrinsics_from_k(width: int, height: int, k) -> CameraIntrinsics:
+    """Intrinsics from a row-major 3x3 camera matrix (sensor_msgs/CameraInfo.K).
+
+    Raises ValueError when the focal lengths are not positive and finite.
+    """
+    fx, cx, fy, cy = float(k[0]), float(k[2]), float(k[4]), float(k[5])
+    if not (math.isfinite(fx) and math.isfinite(fy) and fx > 0.0 and fy > 0.0
+            and math.isfinite(cx) and math.isfinite(cy)):
+        raise ValueError('camera matrix K has no valid focal lengths: %s' % (list(k),))
+    return CameraIntrinsics(int(width), int(height), fx, fy, cx, cy)
+
+
+def pixel_ray(intrinsics: CameraIntrinsics, u: float, v: float) -> np.ndarray:
+    """Direction (optical frame, z = 1) of the ray through image point (u, v) (px)."""
+    return np.array(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy, 1.0))
+
+
+def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
+    """3x3 rotation matrix of a unit quaternion (normalised here)."""
+    norm = math.sqrt(x * x + y * y + z * z + w * w)
+    if norm == 0.0 or not math.isfinite(norm):
+        raise ValueError('invalid quaternion (%r, %r, %r, %r)' % (x, y, z, w))
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    return np.array((
+        (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
+        (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
+        (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y))))
+
+
+# Columns: the optical frame's x (right), y (down), z (forward) axes in its REP-103 body frame.
+OPTICAL_TO_BODY = np.array(((0.0, 0.0, 1.0), (-1.0, 0.0, 0.0), (0.0, -1.0, 0.0)))
+
+
+@dataclass(frozen=True)
+class CameraPose:
+    """The optical frame's pose in a floor frame (REP-103, z up, floor at z = 0).
+
+    ``position`` (m) is the optical centre, ``rotation`` maps optical-frame directions into the
+    floor frame (p_floor = rotation @ p_optical + position), as tf2's base <- optical transform.
+    """
+
+    position: tuple
+    rotation: np.ndarray
+
+    @property
+    def height_m(self) -> float:
+        return float(self.position[2])
+
+    def to_floor_frame(self, direction_optical: np.ndarray) -> np.ndarray:
+        return self.rotation @ direction_optical
+
+    @property
+    def heading_rad(self) -> float:
+        """Azimuth of the optical axis projected on the floor (rad, left positive)."""
+        axis = self.rotation[:, 2]
+        return math.atan2(axis[1], axis[0])
+
+
+def camera_pose_from_height_pitch(height_m: float, pitch_rad: float, x_m: float = 0.0) -> CameraPose:
+    """A forward-looking camera ``height_m`` above the floor, pitched ``pitch_rad`` DOWN."""
+    cos_p, sin_p = math.cos(pitch_rad), math.sin(pitch_rad)
+    pitch_down = np.array(((cos_p, 0.0, sin_p), (0.0, 1.0, 0.0), (-sin_p, 0.0, cos_p)))
+    return CameraPose((float(x_m), 0.0, float(height_m)), pitch_down @ OPTICAL_TO_BODY)
+
+
+def camera_pose_from_transform(translation, quaternion_xyzw) -> CameraPose:
+    """Pose from a floor-frame <- optical-frame transform (tf2 lookup_transform(floor, optical))."""
+    return CameraPose(tuple(float(value) for value in translation),
+                      quaternion_matrix(*quaternion_xyzw))
+
+
+def _wrap_angle(angle_rad: float) -> float:
+    return math.atan2(math.sin(angle_rad), math.cos(angle_rad))
+
+
+def bearing_rad(pose: CameraPose, intrinsics: CameraIntrinsics, u: float, v: float) -> float:
+    """Horizontal angle of the ray through (u, v) from the optical axis projected on the floor
+    (rad, REP-103: left positive). NaN when the ray is vertical."""
+    direction = pose.to_floor_frame(pixel_ray(intrinsics, u, v))
+    if direction[0] == 0.0 and direction[1] == 0.0:
+        return math.nan
+    return _wrap_angle(math.atan2(direction[1], direction[0]) - pose.heading_rad)
+
+
+def floor_point(pose: CameraPose, intrinsics: CameraIntrinsics, u: float, v: float):
+    """(x, y) where the ray through (u, v) meets the floor (m, floor frame), or None when the
+    ray does not point down to the floor."""
+    direction = pose.to_floor_frame(pixel_ray(intrinsics, u, v))
+    if direction[2] >= 0.0 or pose.height_m <= 0.0:
+        return None
+    scale = -pose.height_m / direction[2]
+    return pose.position[0] + scale * direction[0], pose.position[1] + scale * direction[1]
+
+
+def range_from_floor(pose: CameraPose, intrinsics: CameraIntrinsics, u: float, v_bottom: float,
+                     bearing: float, radius_m: float) -> float:
+    """Horizontal distance (m) from the camera to the near surface of an upright cylinder of
+    radius ``radius_m``, from the image row ``v_bottom`` (px, lower edge) of its base.
+
+    Without camera roll a floor point's image row depends only on its distance along the
+    camera's heading, so the base's lowest row marks the heading distance of its nearest
+    point, centre - radius, wherever the can is across the image. NaN when the row is at or
+    above the horizon.
+    """
+    point = floor_point(pose, intrinsics, u, v_bottom)
+    if point is None:
+        return math.nan
+    heading = pose.heading_rad
+    forward_m = ((point[0] - pose.position[0]) * math.cos(heading)
+                 + (point[1] - pose.position[1]) * math.sin(heading))
+    centre_m = (forward_m + radius_m) / math.cos(bearing)
+    return centre_m - radius_m
+
+
+def range_from_width(pose: CameraPose, intrinsics: CameraIntrinsics, u_left: float,
+                     u_right: float, v: float, radius_m: float) -> float:
+    """Horizontal distance (m) from the camera to the near surface of an upright cylinder of
+    radius ``radius_m`` whose silhouette spans columns ``u_left``..``u_right`` (px, outer edges).
+
+    The silhouette's sides are vertical lines where vertical planes through the camera touch
+    the cylinder, so their azimuths are exact at any row: half the angle between them is
+    asin(radius / distance to the axis).
+    """
+    left = pose.to_floor_frame(pixel_ray(intrinsics, u_left, v))
+    right = pose.to_floor_frame(pixel_ray(intrinsics, u_right, v))
+    half_angle = abs(_wrap_angle(math.atan2(left[1], left[0]) - math.atan2(right[1], right[0]))) / 2
+    if half_angle <= 0.0 or half_angle >= math.pi / 2:
+        return math.nan
+    return radius_m / math.sin(half_angle) - radius_m
+
+
+def can_range_bearing(pose, intrinsics, centroid, bbox, diameter_m: float):
+    """(range_m, bearing_rad, method) of an upright can seen as a blob.
+
+    ``centroid`` is (u, v) (px); ``bbox`` is (x, y, width, height) of the blob (px, inclusive
+    of x and y). ``method`` is 'floor' (ray through the blob's bottom), 'width' (the bottom is
+    cut by the image edge, so the apparent width is used), or 'none' (NaN range: geometry
+    unknown, or the blob is cut at the bottom and a side). Range and bearing are NaN when
+    ``pose`` or ``intrinsics`` is None.
+    """
+    if pose is None or intrinsics is None:
+        return math.nan, math.nan, 'none'
+    u, v = centroid
+    x, y, width, height = bbox
+    radius_m = diameter_m / 2.0
+    bearing = bearing_rad(pose, intrinsics, u, v)
+    if y + height < intrinsics.height:
+        distance = range_from_floor(pose, intrinsics, u, y + height - 0.5, bearing, radius_m)
+        if math.isfinite(distance):
+            return distance, bearing, 'floor'
+    if x > 0 and x + width < intrinsics.width:
+        distance = range_from_width(pose, intrinsics, x - 0.5, x + width - 0.5, v, radius_m)
+        if math.isfinite(distance):
+            return distance, bearing, 'width'
+    return math.nan, bearing, 'none'

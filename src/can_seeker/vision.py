@@ -77,19 +77,6 @@ class Blob:
     width: int
     height: int
 
-    @property
-    def bottom_row(self) -> int:
-        """Index of the blob's lowest pixel row."""
-        return self.y + self.height - 1
-
-    def touches_bottom(self, image_height: int) -> bool:
-        """True when the blob reaches the bottom image row (its true bottom may be cut)."""
-        return self.bottom_row >= image_height - 1
-
-    def touches_side(self, image_width: int) -> bool:
-        """True when the blob reaches the left or right image column (its width may be cut)."""
-        return self.x <= 0 or self.x + self.width >= image_width
-
 
 @dataclass
 class VisionResult:

@@ -3,7 +3,7 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.vision import (DETECTOR_PARAMS, Blob, DetectorSettings, RedCanDetector,
+from can_seeker.vision import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                centroid_from_moments, draw_annotation, largest_blob)
 
 WIDTH, HEIGHT = 320, 240
@@ -207,15 +207,6 @@ def test_centroid_from_moments_guards_empty_region():
 
 def test_largest_blob_of_empty_mask_is_none():
     assert largest_blob(np.zeros((10, 10), np.uint8), 1.0) is None
-
-
-def test_blob_edge_contacts():
-    blob = Blob(10.0, 10.0, 100.0, x=0, y=5, width=20, height=15)
-    assert blob.bottom_row == 19
-    assert blob.touches_side(100) and not blob.touches_bottom(100)
-    assert Blob(10.0, 10.0, 100.0, 80, 90, 20, 10).touches_side(100)
-    assert Blob(10.0, 10.0, 100.0, 80, 90, 20, 10).touches_bottom(100)
-    assert not Blob(10.0, 10.0, 100.0, 10, 10, 20, 10).touches_side(100)
 
 
 def test_annotation_marks_the_centroid_and_leaves_the_input_alone():
