@@ -1,0 +1,150 @@
+"""Closed-loop trials judged against ground truth, and their summary.
+
+The truth is the simulator's: base_link pose from ``/odom``, the can's centre from
+``/sim/can_pose``, contact from ``/sim/contact``. A trial succeeds when the controller reached
+STOPPED within the time limit, the true gap is within ``gap_tolerance_m`` of the stop distance,
+the can is within ``bearing_tolerance_deg`` of straight ahead and the robot never touched it.
+"""
+import math
+import statistics
+from dataclasses import asdict, dataclass
+from typing import Iterable, List, Optional, Sequence, Tuple
+
+
+@dataclass(frozen=True)
+class Criteria:
+    """What counts as a successful stop."""
+
+    stop_distance_m: float = 0.25
+    gap_tolerance_m: float = 0.02
+    bearing_tolerance_deg: float = 3.0
+    time_limit_s: float = 90.0
+    robot_radius_m: float = 0.165
+    can_radius_m: float = 0.033
+
+
+def true_gap_and_bearing(base_xy: Sequence[float], base_yaw_rad: float,
+                         can_xy: Sequence[float], criteria: Criteria) -> Tuple[float, float]:
+    """(gap m, bearing rad): robot front to can surface, and the can centre's direction from the
+    robot heading (left positive, wrapped to [-pi, pi])."""
+    dx, dy = can_xy[0] - base_xy[0], can_xy[1] - base_xy[1]
+    gap_m = math.hypot(dx, dy) - criteria.can_radius_m - criteria.robot_radius_m
+    bearing = math.atan2(dy, dx) - base_yaw_rad
+    return gap_m, math.atan2(math.sin(bearing), math.cos(bearing))
+
+
+def path_length(points: Iterable[Sequence[float]]) -> float:
+    """Length of the polyline through ``points`` (m)."""
+    length = 0.0
+    previous = None
+    for point in points:
+        if previous is not None:
+            length += math.hypot(point[0] - previous[0], point[1] - previous[1])
+        previous = point
+    return length
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    """One trial: where the can was, whether and when the robot stopped, the true final state.
+
+    ``time_to_stop_s`` is sim time from the start to STOPPED (None if it never stopped);
+    ``sim_s`` / ``wall_s`` the sim and wall-clock time the trial took.
+    """
+
+    index: int
+    can_x_m: float
+    can_y_m: float
+    stopped: bool
+    time_to_stop_s: Optional[float]
+    gap_m: float
+    bearing_deg: float
+    contact: bool
+    path_length_m: float
+    sim_s: float
+    wall_s: float
+    success: bool
+
+    def as_dict(self):
+        """JSON-ready fields."""
+        return asdict(self)
+
+
+def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],
+          base_xy: Sequence[float], base_yaw_rad: float, final_can_xy: Sequence[float],
+          contact: bool, path_m: float, sim_s: float, wall_s: float,
+          criteria: Criteria) -> TrialResult:
+    """The result of a trial from its true final state (``final_can_xy``: the can may have
+    been pushed, so it is measured where it is, not where it was placed)."""
+    gap_m, bearing_rad = true_gap_and_bearing(base_xy, base_yaw_rad, final_can_xy, criteria)
+    stopped = time_to_stop_s is not None and time_to_stop_s <= criteria.time_limit_s
+    success = (stopped and not contact
+               and abs(gap_m - criteria.stop_distance_m) <= criteria.gap_tolerance_m
+               and abs(math.degrees(bearing_rad)) <= criteria.bearing_tolerance_deg)
+    return TrialResult(index, float(can_xy[0]), float(can_xy[1]), stopped, time_to_stop_s,
+                       gap_m, math.degrees(bearing_rad), contact, path_m, sim_s, wall_s, success)
+
+
+def _stats(values: List[float], kind: str) -> Optional[float]:
+    if not values:
+        return None
+    if kind == 'mean':
+        return statistics.fmean(values)
+    if kind == 'median':
+        return statistics.median(values)
+    return max(values)
+
+
+def summarise(results: Sequence[TrialResult], criteria: Criteria) -> dict:
+    """Success rate and error statistics; gap and bearing errors over the trials that stopped."""
+    stopped = [result for result in results if result.stopped]
+    gap_errors = [abs(result.gap_m - criteria.stop_distance_m) for result in stopped]
+    bearing_errors = [abs(result.bearing_deg) for result in stopped]
+    times = [result.time_to_stop_s for result in stopped]
+    sim_total = sum(result.sim_s for result in results)
+    wall_total = sum(result.wall_s for result in results)
+    return {
+        'trials': len(results),
+        'successes': sum(result.success for result in results),
+        'success_rate': (sum(result.success for result in results) / len(results)
+                         if results else None),
+        'stopped': len(stopped),
+        'gap_error_mean_m': _stats(gap_errors, 'mean'),
+        'gap_error_max_m': _stats(gap_errors, 'max'),
+        'bearing_error_mean_deg': _stats(bearing_errors, 'mean'),
+        'bearing_error_max_deg': _stats(bearing_errors, 'max'),
+        'time_to_stop_median_s': _stats(times, 'median'),
+        'time_to_stop_max_s': _stats(times, 'max'),
+        'contacts': sum(result.contact for result in results),
+        'real_time_factor': sim_total / wall_total if wall_total > 0.0 else None,
+        'criteria': asdict(criteria),
+    }
+
+
+def _format(value, scale=1.0, digits=3, unit=''):
+    return 'n/a' if value is None else '%.*f%s' % (digits, value * scale, unit)
+
+
+def summary_table(summary: dict) -> str:
+    """The summary as a two-column Markdown table."""
+    rows = [
+        ('success rate', '%d/%d (%s)' % (summary['successes'], summary['trials'],
+                                         _format(summary['success_rate'], 100.0, 1, '%'))),
+        ('stopped', '%d/%d' % (summary['stopped'], summary['trials'])),
+        ('gap error mean / max', '%s / %s' % (_format(summary['gap_error_mean_m'], 1000.0, 1),
+                                              _format(summary['gap_error_max_m'], 1000.0, 1,
+                                                      ' mm'))),
+        ('bearing error mean / max', '%s / %s' % (_format(summary['bearing_error_mean_deg'],
+                                                          digits=2),
+                                                  _format(summary['bearing_error_max_deg'],
+                                                          digits=2, unit=' deg'))),
+        ('time to stop median / max', '%s / %s' % (_format(summary['time_to_stop_median_s'],
+                                                           digits=1),
+                                                   _format(summary['time_to_stop_max_s'],
+                                                           digits=1, unit=' s sim'))),
+        ('contacts', '%d' % summary['contacts']),
+        ('real-time factor', _format(summary['real_time_factor'], digits=2, unit='x')),
+    ]
+    lines = ['| metric | value |', '|---|---|']
+    lines += ['| %s | %s |' % row for row in rows]
+    return '\n'.join(lines)

@@ -1,0 +1,48 @@
+"""Top-down pictures of a run."""
+import math
+
+import cv2
+import numpy as np
+import pytest
+
+from can_seeker.topdown import CAN, PATH, TopDownView, draw_topdown, plot_trajectory, \
+    side_by_side
+
+
+def test_framing_holds_all_points_with_margin():
+    view = TopDownView.framing([(0.0, 0.0), (2.0, -1.0)], 400, 0.5)
+    assert view.metres_per_px == pytest.approx(3.0 / 400)
+    assert view.to_px(1.0, -0.5) == (200, 200)
+    column, row = view.to_px(2.0, -1.0)
+    assert 0 < column < 400 and 0 < row < 400
+
+
+def test_x_right_y_up():
+    view = TopDownView(0.0, 0.0, 0.01, 200)
+    assert view.to_px(0.5, 0.0) == (150, 100)
+    assert view.to_px(0.0, 0.5) == (100, 50)
+
+
+def test_draw_puts_can_and_path_where_they_are():
+    view = TopDownView(0.5, 0.0, 0.01, 200)
+    image = draw_topdown(view, [(0.0, 0.0), (0.3, 0.0)], (0.3, 0.0, 0.0), (1.2, 0.4),
+                         0.165, 0.033)
+    assert image.shape == (200, 200, 3)
+    can_column, can_row = view.to_px(1.2, 0.4)
+    assert tuple(image[can_row, can_column]) == CAN
+    path_column, path_row = view.to_px(0.05, 0.0)
+    assert tuple(image[path_row, path_column]) == PATH
+
+
+def test_side_by_side_matches_height_and_even_size():
+    left = np.zeros((241, 321, 3), np.uint8)
+    combined = side_by_side(left, np.zeros((200, 200, 3), np.uint8))
+    assert combined.shape == (240, 321 + 241, 3)
+
+
+def test_plot_trajectory_writes_a_png(tmp_path):
+    filename = str(tmp_path / 'trajectory.png')
+    plot_trajectory(filename, [(0, 0), (0.5, 0.1), (1.0, 0.2)], (1.0, 0.2, math.radians(10)),
+                    (1.5, 0.3), 0.165, 0.033, 0.25, 'test run')
+    image = cv2.imread(filename)
+    assert image is not None and image.shape[0] > 100 and image.std() > 5

@@ -1,0 +1,81 @@
+"""Judging closed-loop trials against ground truth and summarising them."""
+import math
+
+import pytest
+
+from can_seeker.trials import Criteria, judge, path_length, summarise, summary_table, \
+    true_gap_and_bearing
+
+CRITERIA = Criteria()
+TARGET_CENTRE_M = 0.25 + 0.165 + 0.033
+
+
+def test_true_gap_and_bearing_straight_ahead():
+    gap, bearing = true_gap_and_bearing((1.0, 2.0), 0.0, (1.0 + TARGET_CENTRE_M, 2.0), CRITERIA)
+    assert gap == pytest.approx(0.25)
+    assert bearing == pytest.approx(0.0)
+
+
+def test_true_bearing_is_relative_to_heading_and_wrapped():
+    _, bearing = true_gap_and_bearing((0.0, 0.0), math.radians(170.0), (-1.0, -0.1), CRITERIA)
+    assert bearing == pytest.approx(math.atan2(-0.1, -1.0) - math.radians(170.0) + 2 * math.pi)
+    assert -math.pi <= bearing <= math.pi
+    _, left = true_gap_and_bearing((0.0, 0.0), 0.0, (1.0, 0.2), CRITERIA)
+    assert left > 0.0
+
+
+def test_path_length():
+    assert path_length([]) == 0.0
+    assert path_length([(0, 0), (3, 4), (3, 5)]) == pytest.approx(6.0)
+
+
+def trial(gap_error=0.0, bearing_deg=0.0, time_to_stop=10.0, contact=False, index=0):
+    yaw = math.radians(30.0)
+    bearing = yaw + math.radians(bearing_deg)
+    distance = TARGET_CENTRE_M + gap_error
+    can = (distance * math.cos(bearing), distance * math.sin(bearing))
+    return judge(index, can, time_to_stop, (0.0, 0.0), yaw, can, contact, 1.0, 12.0, 6.0,
+                 CRITERIA)
+
+
+def test_success_needs_stop_gap_bearing_and_no_contact():
+    assert trial().success
+    assert trial(gap_error=0.019, bearing_deg=-2.9).success
+    assert not trial(gap_error=0.021).success
+    assert not trial(gap_error=-0.021).success
+    assert not trial(bearing_deg=3.1).success
+    assert not trial(contact=True).success
+    assert not trial(time_to_stop=None).success
+    assert not trial(time_to_stop=90.5).success
+
+
+def test_judge_reports_true_values():
+    result = trial(gap_error=0.012, bearing_deg=-1.5)
+    assert result.gap_m == pytest.approx(0.262)
+    assert result.bearing_deg == pytest.approx(-1.5)
+    assert result.as_dict()['gap_m'] == result.gap_m
+
+
+def test_summary_statistics():
+    results = [trial(0.004, 1.0, 8.0, index=0), trial(-0.010, -2.0, 12.0, index=1),
+               trial(0.030, 0.0, 20.0, index=2), trial(0.0, 0.0, None, index=3)]
+    summary = summarise(results, CRITERIA)
+    assert summary['trials'] == 4
+    assert summary['successes'] == 2
+    assert summary['success_rate'] == 0.5
+    assert summary['stopped'] == 3
+    assert summary['gap_error_mean_m'] == pytest.approx((0.004 + 0.010 + 0.030) / 3)
+    assert summary['gap_error_max_m'] == pytest.approx(0.030)
+    assert summary['bearing_error_max_deg'] == pytest.approx(2.0)
+    assert summary['time_to_stop_median_s'] == 12.0
+    assert summary['time_to_stop_max_s'] == 20.0
+    assert summary['real_time_factor'] == pytest.approx(2.0)
+    table = summary_table(summary)
+    assert '| success rate | 2/4 (50.0%) |' in table
+    assert '14.7 / 30.0 mm' in table
+
+
+def test_summary_of_nothing():
+    summary = summarise([], CRITERIA)
+    assert summary['success_rate'] is None
+    assert 'n/a' in summary_table(summary)
