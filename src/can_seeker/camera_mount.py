@@ -1,0 +1,33 @@
+"""Where the camera sits on the robot: base_link -> camera_link -> camera_optical_frame.
+
+camera_link is REP-103 (x forward, z up) pitched down by the mount pitch; camera_optical_frame
+is its optical frame (z forward, x right, y down). The URDF holds the default mount.
+"""
+import math
+from dataclasses import dataclass
+from typing import Tuple
+
+CAMERA_FORWARD_M = 0.12
+"""Distance of camera_link ahead of base_link (m)."""
+
+OPTICAL_IN_CAMERA_LINK_XYZW = (-0.5, 0.5, -0.5, 0.5)
+"""Rotation of camera_optical_frame in camera_link (quaternion x, y, z, w): rpy (-pi/2, 0, -pi/2)."""
+
+
+@dataclass(frozen=True)
+class CameraMount:
+    """The camera's height above the floor (m) and pitch below the horizon (deg, positive down)."""
+
+    height_m: float
+    pitch_deg: float
+
+    @property
+    def translation_m(self) -> Tuple[float, float, float]:
+        """camera_link origin in base_link (m); base_link lies on the floor."""
+        return (CAMERA_FORWARD_M, 0.0, self.height_m)
+
+    @property
+    def rotation_xyzw(self) -> Tuple[float, float, float, float]:
+        """camera_link orientation in base_link: a positive rotation about y tilts x downward."""
+        half_rad = math.radians(self.pitch_deg) / 2.0
+        return (0.0, math.sin(half_rad), 0.0, math.cos(half_rad))

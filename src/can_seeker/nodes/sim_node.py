@@ -1,0 +1,211 @@
+"""ROS node ``sim``: the pybullet world as a camera robot on a floor with a soda can.
+
+Publishes /clock (every physics step), /camera/image_raw + /camera/camera_info (same stamp: the
+sim time the frame was rendered), /odom and TF odom->base_link (perfect odometry: the true pose
+and twist from pybullet), static TF base_link->camera_link->camera_optical_frame from the actual
+camera parameters, and ground truth /sim/can_pose and /sim/contact. Subscribes /cmd_vel.
+Services /sim/reset and /sim/place_can run on the simulation thread between physics steps.
+"""
+import math
+import os
+import time
+
+import rospkg
+import rospy
+import tf2_ros
+from geometry_msgs.msg import PoseStamped, TransformStamped, Twist
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import CameraInfo, Image
+from std_msgs.msg import Bool
+from std_srvs.srv import Empty, EmptyResponse
+
+from can_seeker.call_queue import CallQueue
+from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
+from can_seeker.params import read_params
+from can_seeker.simulation import PARAMS, Simulation, camera_spec, checked_config
+from can_seeker.srv import PlaceCan, PlaceCanResponse
+from can_seeker.world import World
+
+ROBOT_URDF = os.path.join('urdf', 'can_seeker_robot.urdf')
+ODOM_FRAME = 'odom'
+BASE_FRAME = 'base_link'
+CAMERA_FRAME = 'camera_link'
+OPTICAL_FRAME = 'camera_optical_frame'
+SERVICE_TIMEOUT_S = 10.0
+MAX_PACING_LAG_S = 0.5
+"""When the loop falls this far behind the wall-clock pace (s), it stops trying to catch up."""
+ERROR_THROTTLE_S = 5.0
+
+
+def _transform(stamp, parent, child, translation, rotation_xyzw) -> TransformStamped:
+    transform = TransformStamped()
+    transform.header.stamp = stamp
+    transform.header.frame_id = parent
+    transform.child_frame_id = child
+    (transform.transform.translation.x, transform.transform.translation.y,
+     transform.transform.translation.z) = translation
+    (transform.transform.rotation.x, transform.transform.rotation.y,
+     transform.transform.rotation.z, transform.transform.rotation.w) = rotation_xyzw
+    return transform
+
+
+def _camera_info(intrinsics) -> CameraInfo:
+    info = CameraInfo()
+    info.header.frame_id = OPTICAL_FRAME
+    info.width = intrinsics.width
+    info.height = intrinsics.height
+    info.distortion_model = 'plumb_bob'
+    info.D = [0.0] * 5
+    info.K = intrinsics.K
+    info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+    info.P = intrinsics.P
+    return info
+
+
+class SimNode:
+    """Glue between ROS and a :class:`Simulation`; everything pybullet runs in :meth:`spin`."""
+
+    def __init__(self):
+        config = checked_config(read_params(PARAMS, rospy.get_param, rospy.logwarn),
+                                rospy.logwarn)
+        if config.gui and not os.environ.get('DISPLAY'):
+            rospy.logwarn('~gui is true but no display is set (DISPLAY); running headless')
+            config.gui = False
+        urdf_path = os.path.join(rospkg.RosPack().get_path('can_seeker'), ROBOT_URDF)
+        spec = camera_spec(config)
+        world = World(urdf_path, spec, config.physics_rate, config.renderer, config.gui,
+                      config.can_color)
+        world.place_can(*config.can_position)
+        rospy.loginfo('sim: rendering %dx%d at %.1f Hz with %s; can at (%.3f, %.3f)',
+                      config.width, config.height, config.camera_rate, world.renderer_name,
+                      *config.can_position)
+        self._sim = Simulation.from_config(world, config)
+        self._real_time_factor = config.real_time_factor
+        self._calls = CallQueue()
+        self._camera_info = _camera_info(spec.intrinsics)
+
+        self._clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
+        self._image_pub = rospy.Publisher('camera/image_raw', Image, queue_size=2)
+        self._info_pub = rospy.Publisher('camera/camera_info', CameraInfo, queue_size=2)
+        self._odom_pub = rospy.Publisher('odom', Odometry, queue_size=10)
+        self._can_pose_pub = rospy.Publisher('~can_pose', PoseStamped, queue_size=10)
+        self._contact_pub = rospy.Publisher('~contact', Bool, queue_size=10)
+        self._tf_broadcaster = tf2_ros.TransformBroadcaster()
+        self._static_broadcaster = tf2_ros.StaticTransformBroadcaster()
+        self._publish_clock()
+        stamp = rospy.Time.from_sec(self._sim.time_s)
+        self._static_broadcaster.sendTransform([
+            _transform(stamp, BASE_FRAME, CAMERA_FRAME, spec.mount.translation_m,
+                       spec.mount.rotation_xyzw),
+            _transform(stamp, CAMERA_FRAME, OPTICAL_FRAME, (0.0, 0.0, 0.0),
+                       OPTICAL_IN_CAMERA_LINK_XYZW),
+        ])
+        rospy.Subscriber('cmd_vel', Twist, self._on_cmd_vel, queue_size=10)
+        rospy.Service('~reset', Empty, self._on_reset)
+        rospy.Service('~place_can', PlaceCan, self._on_place_can)
+
+    def _on_cmd_vel(self, twist: Twist):
+        linear_mps, angular_radps = twist.linear.x, twist.angular.z
+        if not (math.isfinite(linear_mps) and math.isfinite(angular_radps)):
+            rospy.logerr_throttle(ERROR_THROTTLE_S, 'sim: ignoring /cmd_vel with a non-finite '
+                                  'velocity (%r, %r)' % (linear_mps, angular_radps))
+            return
+        self._calls.post(lambda: self._sim.command(linear_mps, angular_radps))
+
+    def _on_reset(self, _request):
+        try:
+            self._calls.call(self._sim.reset, SERVICE_TIMEOUT_S)
+        except TimeoutError as error:
+            rospy.logerr('sim: reset failed: %s', error)
+        return EmptyResponse()
+
+    def _on_place_can(self, request):
+        try:
+            success, message = self._calls.call(
+                lambda: self._sim.place_can(request.x, request.y), SERVICE_TIMEOUT_S)
+        except TimeoutError as error:
+            success, message = False, str(error)
+        if not success:
+            rospy.logerr('sim: place_can: %s', message)
+        return PlaceCanResponse(success, message)
+
+    def _publish_clock(self):
+        self._clock_pub.publish(Clock(clock=rospy.Time.from_sec(self._sim.time_s)))
+
+    def _publish_image(self, image, stamp):
+        message = Image()
+        message.header.stamp = stamp
+        message.header.frame_id = OPTICAL_FRAME
+        message.height, message.width = image.shape[:2]
+        message.encoding = self._sim.encoding
+        message.step = message.width * 3
+        message.data = image.tobytes()
+        self._camera_info.header.stamp = stamp
+        self._image_pub.publish(message)
+        self._info_pub.publish(self._camera_info)
+
+    def _publish_state(self, stamp):
+        world = self._sim.world
+        robot = world.robot_state()
+        odom = Odometry()
+        odom.header.stamp = stamp
+        odom.header.frame_id = ODOM_FRAME
+        odom.child_frame_id = BASE_FRAME
+        pose = odom.pose.pose
+        pose.position.x, pose.position.y, pose.position.z = robot.position
+        (pose.orientation.x, pose.orientation.y, pose.orientation.z,
+         pose.orientation.w) = robot.orientation_xyzw
+        twist = odom.twist.twist
+        twist.linear.x, twist.linear.y, twist.linear.z = robot.linear_velocity
+        twist.angular.x, twist.angular.y, twist.angular.z = robot.angular_velocity
+        self._odom_pub.publish(odom)
+        self._tf_broadcaster.sendTransform(_transform(stamp, ODOM_FRAME, BASE_FRAME,
+                                                      robot.position, robot.orientation_xyzw))
+        can_position, can_orientation = world.can_pose()
+        can = PoseStamped()
+        can.header.stamp = stamp
+        can.header.frame_id = ODOM_FRAME
+        can.pose.position.x, can.pose.position.y, can.pose.position.z = can_position
+        (can.pose.orientation.x, can.pose.orientation.y, can.pose.orientation.z,
+         can.pose.orientation.w) = can_orientation
+        self._can_pose_pub.publish(can)
+        self._contact_pub.publish(Bool(data=world.robot_touches_can()))
+
+    def spin(self):
+        """Step, publish and pace until shutdown."""
+        wall_start_s, sim_start_s = time.monotonic(), self._sim.time_s
+        while not rospy.is_shutdown():
+            self._calls.run_pending()
+            result = self._sim.step()
+            self._publish_clock()
+            stamp = rospy.Time.from_sec(result.time_s)
+            if result.image is not None:
+                self._publish_image(result.image, stamp)
+            if result.state_due:
+                self._publish_state(stamp)
+            if self._real_time_factor > 0.0:
+                lag_s = (time.monotonic() - wall_start_s
+                         - (result.time_s - sim_start_s) / self._real_time_factor)
+                if lag_s < 0.0:
+                    time.sleep(-lag_s)
+                elif lag_s > MAX_PACING_LAG_S:
+                    wall_start_s, sim_start_s = time.monotonic(), result.time_s
+
+    def close(self):
+        """Release pybullet."""
+        self._sim.world.close()
+
+
+def main():
+    """Run the ``sim`` node."""
+    rospy.init_node('sim')
+    try:
+        node = SimNode()
+    except RuntimeError as error:
+        rospy.logfatal('sim: %s', error)
+        raise SystemExit(1)
+    try:
+        node.spin()
+    finally:
+        node.close()

@@ -1,0 +1,281 @@
+"""The pybullet world: floor, differential-drive robot, soda can, physics stepping and the camera.
+
+Real rigid-body physics: the robot is driven through its wheel motors and pushes the can by
+contact. The camera renders with EGL (CPU llvmpipe works headless) or, when the EGL plugin is
+missing or renders nothing, with pybullet's TinyRenderer. The world frame is the odom frame and
+the robot starts at its origin facing +x. Use one World from one thread: pybullet is not
+thread-safe.
+"""
+import importlib.util
+import math
+from dataclasses import dataclass
+from typing import Sequence, Tuple
+
+import numpy as np
+import pybullet
+import pybullet_data
+from pybullet_utils.bullet_client import BulletClient
+
+from can_seeker.camera_geometry import intrinsics_from_vertical_fov
+from can_seeker.camera_mount import CameraMount
+from can_seeker.drive import wheel_speeds
+
+WHEEL_RADIUS_M = 0.036
+WHEEL_SEPARATION_M = 0.235
+BODY_RADIUS_M = 0.165
+WHEEL_MAX_TORQUE_NM = 2.0
+
+CAN_HEIGHT_M = 0.122
+CAN_RADIUS_M = 0.033
+CAN_MASS_KG = 0.37
+CAN_LATERAL_FRICTION = 0.5
+
+CLIP_NEAR_M = 0.02
+CLIP_FAR_M = 30.0
+CONTACT_TOLERANCE_M = 0.001
+"""Contact points farther apart than this (m) are a near miss, not a touch."""
+
+RENDERERS = ('auto', 'egl', 'tiny')
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    """Image size (px), vertical field of view (deg) and mount of the robot's camera."""
+
+    width: int
+    height: int
+    fov_deg: float
+    mount: CameraMount
+
+    @property
+    def intrinsics(self):
+        """The pinhole intrinsics of the projection used to render."""
+        return intrinsics_from_vertical_fov(self.width, self.height, self.fov_deg)
+
+
+@dataclass(frozen=True)
+class RobotState:
+    """base_link in the world (odom) frame; velocities in base_link (m, quaternion xyzw, m/s, rad/s)."""
+
+    position: Tuple[float, float, float]
+    orientation_xyzw: Tuple[float, float, float, float]
+    linear_velocity: Tuple[float, float, float]
+    angular_velocity: Tuple[float, float, float]
+
+    @property
+    def yaw_rad(self) -> float:
+        """Heading about z (rad)."""
+        x, y, z, w = self.orientation_xyzw
+        return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def rgba_to_image(rgba: np.ndarray, encoding: str) -> np.ndarray:
+    """An HxWx3 uint8 image in ``encoding`` ('bgr8' or 'rgb8') from pybullet's HxWx4 RGBA."""
+    if encoding == 'bgr8':
+        return np.ascontiguousarray(rgba[:, :, 2::-1])
+    if encoding == 'rgb8':
+        return np.ascontiguousarray(rgba[:, :, :3])
+    raise ValueError('unsupported encoding %r (bgr8 or rgb8)' % (encoding,))
+
+
+def _rotation_matrix(client, orientation_xyzw) -> np.ndarray:
+    return np.array(client.getMatrixFromQuaternion(orientation_xyzw)).reshape(3, 3)
+
+
+class World:
+    """Floor, robot (from ``urdf_path``) and can; stepped at ``physics_rate_hz``.
+
+    ``renderer`` is 'auto' (EGL, TinyRenderer fallback), 'egl' (RuntimeError if unusable) or
+    'tiny'. ``gui`` opens the pybullet GUI (needs a display); it renders with its own OpenGL.
+    """
+
+    def __init__(self, urdf_path: str, camera: CameraSpec, physics_rate_hz: float = 240.0,
+                 renderer: str = 'auto', gui: bool = False,
+                 can_rgba: Sequence[float] = (0.8, 0.05, 0.05, 1.0)):
+        if renderer not in RENDERERS:
+            raise ValueError('renderer must be one of %s, got %r' % (', '.join(RENDERERS), renderer))
+        self.camera = camera
+        self.dt_s = 1.0 / physics_rate_hz
+        self._client = BulletClient(connection_mode=pybullet.GUI if gui else pybullet.DIRECT)
+        self._egl_plugin = -1
+        if gui:
+            self.renderer_name = 'opengl-gui'
+        elif renderer in ('auto', 'egl'):
+            self._egl_plugin = self._load_egl_plugin()
+            self.renderer_name = 'egl' if self._egl_plugin >= 0 else 'tiny'
+        else:
+            self.renderer_name = 'tiny'
+        client = self._client
+        client.setAdditionalSearchPath(pybullet_data.getDataPath())
+        client.setGravity(0.0, 0.0, -9.81)
+        client.setTimeStep(self.dt_s)
+        self._floor = client.loadURDF('plane.urdf')
+        self._robot = client.loadURDF(urdf_path, useFixedBase=False)
+        self._wheel_joints = self._joint_indices(('left_wheel_joint', 'right_wheel_joint'))
+        dynamics = client.getDynamicsInfo(self._robot, -1)
+        self._base_in_inertial = client.invertTransform(dynamics[3], dynamics[4])
+        self._inertial_in_base = (dynamics[3], dynamics[4])
+        self._can = self._create_can(can_rgba)
+        self._can_home = (1.0, 0.0)
+        self.reset_robot()
+        self.place_can(*self._can_home)
+        if self.renderer_name == 'egl' and not self._renders_scene():
+            client.unloadPlugin(self._egl_plugin)
+            self._egl_plugin = -1
+            self.renderer_name = 'tiny'
+        if renderer == 'egl' and self.renderer_name != 'egl':
+            self.close()
+            raise RuntimeError('the EGL renderer is not available')
+
+    def _load_egl_plugin(self) -> int:
+        """Load pybullet's EGL renderer (before any body exists); -1 when it is unavailable."""
+        spec = importlib.util.find_spec('eglRenderer')
+        if spec is None or spec.origin is None:
+            return -1
+        return self._client.loadPlugin(spec.origin, '_eglRendererPlugin')
+
+    def _renders_scene(self) -> bool:
+        """False when the renderer returns a blank frame (EGL without a usable device)."""
+        rgba = self.render_rgba()
+        return bool(np.ptp(rgba[:, :, :3]) > 0)
+
+    def _joint_indices(self, names: Sequence[str]) -> Tuple[int, ...]:
+        by_name = {}
+        for index in range(self._client.getNumJoints(self._robot)):
+            by_name[self._client.getJointInfo(self._robot, index)[1].decode()] = index
+        missing = [name for name in names if name not in by_name]
+        if missing:
+            raise ValueError('the robot URDF has no joint %s' % ', '.join(missing))
+        return tuple(by_name[name] for name in names)
+
+    def _create_can(self, rgba: Sequence[float]) -> int:
+        client = self._client
+        collision = client.createCollisionShape(pybullet.GEOM_CYLINDER, radius=CAN_RADIUS_M,
+                                                height=CAN_HEIGHT_M)
+        visual = client.createVisualShape(pybullet.GEOM_CYLINDER, radius=CAN_RADIUS_M,
+                                          length=CAN_HEIGHT_M, rgbaColor=list(rgba))
+        can = client.createMultiBody(baseMass=CAN_MASS_KG, baseCollisionShapeIndex=collision,
+                                     baseVisualShapeIndex=visual,
+                                     basePosition=(0.0, 0.0, CAN_HEIGHT_M / 2.0))
+        client.changeDynamics(can, -1, lateralFriction=CAN_LATERAL_FRICTION)
+        return can
+
+    def set_can_color(self, rgba: Sequence[float]):
+        """Repaint the can (red, green, blue, alpha in 0-1)."""
+        self._client.changeVisualShape(self._can, -1, rgbaColor=list(rgba))
+
+    def reset_robot(self):
+        """Put the robot at the world origin facing +x, at rest, wheels stopped."""
+        client = self._client
+        position, orientation = client.multiplyTransforms((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0),
+                                                          *self._inertial_in_base)
+        client.resetBasePositionAndOrientation(self._robot, position, orientation)
+        client.resetBaseVelocity(self._robot, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        for joint in self._wheel_joints:
+            client.resetJointState(self._robot, joint, 0.0, 0.0)
+        self._hold_angles_rad = None
+        self.set_twist(0.0, 0.0)
+
+    def place_can(self, x_m: float, y_m: float):
+        """Stand the can upright and at rest with its axis at (x, y) in the world frame (m)."""
+        self._can_home = (float(x_m), float(y_m))
+        client = self._client
+        client.resetBasePositionAndOrientation(self._can, (x_m, y_m, CAN_HEIGHT_M / 2.0),
+                                               (0.0, 0.0, 0.0, 1.0))
+        client.resetBaseVelocity(self._can, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+
+    @property
+    def can_home(self) -> Tuple[float, float]:
+        """Where the can was last placed (m, world frame)."""
+        return self._can_home
+
+    def set_twist(self, linear_mps: float, angular_radps: float):
+        """Drive the wheel motors at the speeds of the given base twist (m/s, rad/s).
+
+        A zero twist holds the wheels at their angles: a zero-velocity motor creeps (~0.1 mm/s)
+        under the solver's residual error, a position hold does not.
+        """
+        client = self._client
+        if linear_mps == 0.0 and angular_radps == 0.0:
+            if self._hold_angles_rad is None:
+                self._hold_angles_rad = [client.getJointState(self._robot, joint)[0]
+                                         for joint in self._wheel_joints]
+                client.setJointMotorControlArray(
+                    self._robot, self._wheel_joints, pybullet.POSITION_CONTROL,
+                    targetPositions=self._hold_angles_rad, forces=[WHEEL_MAX_TORQUE_NM] * 2)
+            return
+        self._hold_angles_rad = None
+        left, right = wheel_speeds(linear_mps, angular_radps, WHEEL_SEPARATION_M, WHEEL_RADIUS_M)
+        client.setJointMotorControlArray(
+            self._robot, self._wheel_joints, pybullet.VELOCITY_CONTROL,
+            targetVelocities=[left, right], forces=[WHEEL_MAX_TORQUE_NM] * 2)
+
+    def step(self):
+        """Advance the physics by one time step (``dt_s``)."""
+        self._client.stepSimulation()
+
+    def robot_state(self) -> RobotState:
+        """The true pose and twist of base_link (perfect odometry)."""
+        client = self._client
+        com_position, com_orientation = client.getBasePositionAndOrientation(self._robot)
+        position, orientation = client.multiplyTransforms(com_position, com_orientation,
+                                                          *self._base_in_inertial)
+        com_velocity, angular_world = client.getBaseVelocity(self._robot)
+        lever_m = np.subtract(position, com_position)
+        linear_world = np.add(com_velocity, np.cross(angular_world, lever_m))
+        world_from_base = _rotation_matrix(client, orientation)
+        return RobotState(tuple(position), tuple(orientation),
+                          tuple(world_from_base.T @ linear_world),
+                          tuple(world_from_base.T @ np.asarray(angular_world)))
+
+    def can_pose(self) -> Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]:
+        """Position of the can's centre (m) and its orientation (quaternion xyzw), world frame."""
+        position, orientation = self._client.getBasePositionAndOrientation(self._can)
+        return tuple(position), tuple(orientation)
+
+    def robot_touches_can(self) -> bool:
+        """Whether any part of the robot touched the can in the last step."""
+        return any(point[8] <= CONTACT_TOLERANCE_M
+                   for point in self._client.getContactPoints(self._robot, self._can))
+
+    def camera_pose(self) -> Tuple[np.ndarray, np.ndarray]:
+        """camera_link position (m) and rotation matrix (columns x forward, y left, z up), world."""
+        state = self.robot_state()
+        mount = self.camera.mount
+        position, orientation = self._client.multiplyTransforms(
+            state.position, state.orientation_xyzw, mount.translation_m, mount.rotation_xyzw)
+        return np.asarray(position), _rotation_matrix(self._client, orientation)
+
+    def render_rgba(self) -> np.ndarray:
+        """The camera image as an HxWx4 uint8 RGBA array."""
+        client = self._client
+        eye, rotation = self.camera_pose()
+        view = client.computeViewMatrix(eye.tolist(), (eye + rotation[:, 0]).tolist(),
+                                        rotation[:, 2].tolist())
+        camera = self.camera
+        projection = client.computeProjectionMatrixFOV(camera.fov_deg, camera.width / camera.height,
+                                                       CLIP_NEAR_M, CLIP_FAR_M)
+        renderer = (pybullet.ER_TINY_RENDERER if self.renderer_name == 'tiny'
+                    else pybullet.ER_BULLET_HARDWARE_OPENGL)
+        _, _, rgba, _, _ = client.getCameraImage(camera.width, camera.height, view, projection,
+                                                 renderer=renderer,
+                                                 flags=pybullet.ER_NO_SEGMENTATION_MASK)
+        return np.asarray(rgba, dtype=np.uint8).reshape(camera.height, camera.width, 4)
+
+    def render(self, encoding: str = 'bgr8') -> np.ndarray:
+        """The camera image as an HxWx3 uint8 array in ``encoding`` ('bgr8' or 'rgb8')."""
+        return rgba_to_image(self.render_rgba(), encoding)
+
+    def close(self):
+        """Disconnect from pybullet (the world is unusable afterwards)."""
+        if self._client is not None:
+            if self._egl_plugin >= 0:
+                self._client.unloadPlugin(self._egl_plugin)
+            self._client.disconnect()
+            self._client = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc_info):
+        self.close()
