@@ -9,6 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
+
 
 @dataclass(frozen=True)
 class CameraIntrinsics:
@@ -71,10 +73,6 @@ def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
         (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y))))
 
 
-# Columns: the optical frame's x (right), y (down), z (forward) axes in its REP-103 body frame.
-OPTICAL_TO_BODY = np.array(((0.0, 0.0, 1.0), (-1.0, 0.0, 0.0), (0.0, -1.0, 0.0)))
-
-
 @dataclass(frozen=True)
 class CameraPose:
     """The optical frame's pose in a floor frame (REP-103, z up, floor at z = 0).
@@ -100,11 +98,10 @@ class CameraPose:
         return math.atan2(axis[1], axis[0])
 
 
-def camera_pose_from_height_pitch(height_m: float, pitch_rad: float, x_m: float = 0.0) -> CameraPose:
-    """A forward-looking camera ``height_m`` above the floor, pitched ``pitch_rad`` DOWN."""
-    cos_p, sin_p = math.cos(pitch_rad), math.sin(pitch_rad)
-    pitch_down = np.array(((cos_p, 0.0, sin_p), (0.0, 1.0, 0.0), (-sin_p, 0.0, cos_p)))
-    return CameraPose((float(x_m), 0.0, float(height_m)), pitch_down @ OPTICAL_TO_BODY)
+def camera_pose_from_mount(mount: CameraMount) -> CameraPose:
+    """Pose of camera_optical_frame in base_link (on the floor) for a camera mount."""
+    rotation = quaternion_matrix(*mount.rotation_xyzw) @ quaternion_matrix(*OPTICAL_IN_CAMERA_LINK_XYZW)
+    return CameraPose(tuple(float(value) for value in mount.translation_m), rotation)
 
 
 def camera_pose_from_transform(translation, quaternion_xyzw) -> CameraPose:

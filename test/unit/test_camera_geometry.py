@@ -6,10 +6,11 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.camera_geometry import (OPTICAL_TO_BODY, bearing_rad, camera_pose_from_height_pitch,
+from can_seeker.camera_geometry import (bearing_rad, camera_pose_from_mount,
                                         camera_pose_from_transform, can_range_bearing, floor_point,
                                         intrinsics_from_k, intrinsics_from_vertical_fov,
                                         pixel_ray, quaternion_matrix)
+from can_seeker.camera_mount import CAMERA_FORWARD_M, CameraMount
 
 CAN_RADIUS_M = 0.033
 CAN_HEIGHT_M = 0.122
@@ -56,7 +57,7 @@ def true_range(centre_xy):
 
 @pytest.fixture(scope='module')
 def camera():
-    return camera_pose_from_height_pitch(CAMERA_HEIGHT_M, PITCH_RAD), \
+    return camera_pose_from_mount(CameraMount(CAMERA_HEIGHT_M, 25.0)), \
         intrinsics_from_vertical_fov(320, 240, 45.0)
 
 
@@ -101,7 +102,7 @@ def test_no_range_when_cut_at_the_bottom_and_a_side(camera):
 
 def test_unknown_geometry_gives_nan():
     intrinsics = intrinsics_from_vertical_fov(320, 240, 45.0)
-    pose = camera_pose_from_height_pitch(0.25, PITCH_RAD)
+    pose = camera_pose_from_mount(CameraMount(0.25, 25.0))
     for args in ((None, intrinsics), (pose, None)):
         distance, bearing, method = can_range_bearing(*args, (160, 200), (150, 180, 20, 30), 0.066)
         assert math.isnan(distance) and math.isnan(bearing) and method == 'none'
@@ -110,7 +111,7 @@ def test_unknown_geometry_gives_nan():
 def test_range_adapts_to_camera_height_and_pitch():
     intrinsics = intrinsics_from_vertical_fov(640, 480, 45.0)
     for height_m, pitch_deg in ((0.15, 10.0), (0.40, 35.0)):
-        pose = camera_pose_from_height_pitch(height_m, math.radians(pitch_deg))
+        pose = camera_pose_from_mount(CameraMount(height_m, pitch_deg))
         centre_xy = (0.9, -0.1)
         centroid, bbox = blob_of(can_mask(centre_xy, intrinsics, height_m, math.radians(pitch_deg)))
         distance, _, method = can_range_bearing(pose, intrinsics, centroid, bbox, 0.066)
@@ -121,7 +122,7 @@ def test_range_adapts_to_camera_height_and_pitch():
 def test_row_above_the_horizon_has_no_floor_point(camera):
     pose, intrinsics = camera
     assert floor_point(pose, intrinsics, 160, 0) is not None
-    level = camera_pose_from_height_pitch(0.25, 0.0)
+    level = camera_pose_from_mount(CameraMount(0.25, 0.0))
     assert floor_point(level, intrinsics, 160, 100) is None
     assert floor_point(level, intrinsics, 160, 119.5) is None
 
@@ -129,7 +130,7 @@ def test_row_above_the_horizon_has_no_floor_point(camera):
 def test_principal_point_ray_hits_the_floor_where_the_pitch_says(camera):
     pose, intrinsics = camera
     x_m, y_m = floor_point(pose, intrinsics, intrinsics.cx, intrinsics.cy)
-    assert x_m == pytest.approx(CAMERA_HEIGHT_M / math.tan(PITCH_RAD))
+    assert x_m == pytest.approx(CAMERA_FORWARD_M + CAMERA_HEIGHT_M / math.tan(PITCH_RAD))
     assert y_m == pytest.approx(0.0, abs=1e-12)
 
 
@@ -147,26 +148,25 @@ def test_pixel_ray_through_principal_point_is_the_optical_axis():
 
 
 def test_standard_optical_quaternion_is_the_optical_rotation():
-    assert quaternion_matrix(-0.5, 0.5, -0.5, 0.5) == pytest.approx(OPTICAL_TO_BODY)
+    optical_axes_in_body = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    assert quaternion_matrix(-0.5, 0.5, -0.5, 0.5) == pytest.approx(optical_axes_in_body)
     with pytest.raises(ValueError):
         quaternion_matrix(0.0, 0.0, 0.0, 0.0)
 
 
-def test_pose_from_transform_matches_height_and_pitch():
+def test_mount_pose_looks_forward_and_down():
+    pose = camera_pose_from_mount(CameraMount(0.25, 25.0))
+    assert pose.position == pytest.approx((CAMERA_FORWARD_M, 0.0, 0.25))
     pitch = math.radians(25.0)
-    # camera_link pitched down about y, then the optical rotation.
-    half = pitch / 2.0
-    link = (0.0, math.sin(half), 0.0, math.cos(half))
-    optical = (-0.5, 0.5, -0.5, 0.5)
-    x1, y1, z1, w1 = link
-    x2, y2, z2, w2 = optical
-    product = (w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2, w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-               w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2, w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2)
-    from_tf = camera_pose_from_transform((0.12, 0.0, 0.25), product)
-    expected = camera_pose_from_height_pitch(0.25, pitch, x_m=0.12)
-    assert from_tf.rotation == pytest.approx(expected.rotation)
-    assert from_tf.position == pytest.approx(expected.position)
-    assert from_tf.heading_rad == pytest.approx(0.0, abs=1e-12)
+    assert pose.rotation[:, 2] == pytest.approx([math.cos(pitch), 0.0, -math.sin(pitch)])
+    assert pose.rotation[:, 0] == pytest.approx([0.0, -1.0, 0.0])
+    assert pose.heading_rad == pytest.approx(0.0, abs=1e-12)
+
+
+def test_pose_from_transform_keeps_translation_and_rotation():
+    pose = camera_pose_from_transform((0.1, 0.2, 0.3), (0.0, 0.0, math.sin(0.25), math.cos(0.25)))
+    assert pose.position == (0.1, 0.2, 0.3)
+    assert pose.rotation[:, 0] == pytest.approx([math.cos(0.5), math.sin(0.5), 0.0])
 
 
 def test_intrinsics_from_k():
