@@ -7,6 +7,8 @@ is older than the timeout), approached at bounded accelerations.
 import math
 from typing import Tuple
 
+from can_seeker.twist_limits import step_toward
+
 
 class CommandWatchdog:
     """Holds the latest (linear m/s, angular rad/s) command and zeroes it after ``timeout_s``."""
@@ -32,11 +34,6 @@ class CommandWatchdog:
         return self._command
 
 
-def _approach(current: float, target: float, max_change: float) -> float:
-    """``current`` moved toward ``target`` by at most ``max_change``."""
-    return current + max(-max_change, min(max_change, target - current))
-
-
 class TwistLimiter:
     """Moves the executed twist toward the target at bounded accelerations so the wheels grip."""
 
@@ -53,10 +50,10 @@ class TwistLimiter:
     def step(self, target_linear_mps: float, target_angular_radps: float,
              dt_s: float) -> Tuple[float, float]:
         """Advance by ``dt_s`` toward the target twist; returns the twist to execute now."""
-        self.linear_mps = _approach(self.linear_mps, target_linear_mps,
-                                    self.max_linear_accel_mps2 * dt_s)
-        self.angular_radps = _approach(self.angular_radps, target_angular_radps,
-                                       self.max_angular_accel_radps2 * dt_s)
+        self.linear_mps = step_toward(self.linear_mps, target_linear_mps,
+                                      self.max_linear_accel_mps2 * dt_s)
+        self.angular_radps = step_toward(self.angular_radps, target_angular_radps,
+                                         self.max_angular_accel_radps2 * dt_s)
         return self.linear_mps, self.angular_radps
 
 

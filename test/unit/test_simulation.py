@@ -1,0 +1,165 @@
+"""Simulator parameters, can placement, step scheduling, command timeout and services' logic."""
+import math
+import pathlib
+from types import SimpleNamespace
+
+import pytest
+
+from can_seeker.params import read_params
+from can_seeker.simulation import (MIN_CAN_CLEARANCE_M, PARAMS, RateSchedule, Simulation,
+                                   camera_spec, checked_config, parse_rgba, random_can_position)
+from can_seeker.world import World
+
+URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
+
+
+def config_with(**overrides):
+    values = {spec.name: spec.default for spec in PARAMS}
+    values.update(overrides)
+    warnings = []
+    return checked_config(SimpleNamespace(**values), warnings.append), warnings
+
+
+def test_defaults_are_the_documented_robot():
+    defaults = {spec.name: spec.default for spec in PARAMS}
+    assert (defaults['width'], defaults['height'], defaults['fov_deg']) == (320, 240, 45.0)
+    assert (defaults['camera_rate'], defaults['physics_rate']) == (15.0, 240.0)
+    assert (defaults['camera_height'], defaults['camera_pitch_deg']) == (0.25, 25.0)
+    assert defaults['cmd_timeout'] == 0.5
+    assert defaults['gui'] is False
+    for spec in PARAMS:
+        assert spec.coerce(spec.default) == spec.default
+        assert spec.doc
+
+
+def test_bad_parameter_values_fall_back_to_defaults():
+    raw = {'~width': -5, '~renderer': 'vulkan', '~camera_rate': 'fast', '~seed': 3}
+    warnings = []
+    params = read_params(PARAMS, lambda name, default: raw.get(name, default), warnings.append)
+    assert (params.width, params.renderer, params.camera_rate, params.seed) == (320, 'auto', 15.0, 3)
+    assert len(warnings) == 3
+
+
+def test_parse_rgba():
+    assert parse_rgba('0.8 0.05 0.05 1') == (0.8, 0.05, 0.05, 1.0)
+    assert parse_rgba('1,0,0.5,1') == (1.0, 0.0, 0.5, 1.0)
+    for bad in ('red', '1 0 0', '1 0 0 1 1', '2 0 0 1', '-0.1 0 0 1'):
+        with pytest.raises(ValueError):
+            parse_rgba(bad)
+
+
+def test_random_can_position_is_repeatable_and_in_range():
+    assert random_can_position(7, 0.8, 2.0) == random_can_position(7, 0.8, 2.0)
+    positions = [random_can_position(seed, 0.8, 2.0) for seed in range(200)]
+    distances = [math.hypot(x, y) for x, y in positions]
+    assert min(distances) >= 0.8 and max(distances) <= 2.0
+    quadrants = {(x > 0, y > 0) for x, y in positions}
+    assert len(quadrants) == 4
+    assert len(set(positions)) == 200
+
+
+def test_checked_config_places_the_can():
+    config, warnings = config_with(can_placement='fixed', can_x=1.5, can_y=-0.5)
+    assert config.can_position == (1.5, -0.5) and not warnings
+    config, warnings = config_with(seed=4)
+    assert config.can_position == random_can_position(4, 0.8, 2.0) and not warnings
+    assert config.can_color == (0.8, 0.05, 0.05, 1.0)
+
+
+def test_checked_config_repairs_inconsistent_values():
+    config, warnings = config_with(can_rgba='pink', can_min_distance=1.5, can_max_distance=1.0)
+    assert config.can_color == (0.8, 0.05, 0.05, 1.0)
+    assert config.can_max_distance == 1.5
+    assert math.hypot(*config.can_position) == pytest.approx(1.5)
+    assert len(warnings) == 2
+    config, warnings = config_with(can_placement='fixed', can_x=0.1, can_y=0.0)
+    assert config.can_position == (1.0, 0.0) and len(warnings) == 1
+
+
+def test_camera_spec_from_parameters():
+    config, _ = config_with(width=640, height=480, camera_height=0.3, camera_pitch_deg=20.0)
+    spec = camera_spec(config)
+    assert (spec.width, spec.height, spec.mount.height_m, spec.mount.pitch_deg) == (640, 480, 0.3, 20.0)
+    assert spec.intrinsics.fx == pytest.approx(579.411, abs=1e-3)
+
+
+def test_rate_schedule_divides_the_physics_rate():
+    schedule = RateSchedule(15.0, 240.0)
+    due = [step for step in range(1, 241) if schedule.due(step)]
+    assert due == list(range(16, 241, 16))
+
+
+def test_rate_schedule_does_not_drift_at_uneven_rates():
+    schedule = RateSchedule(7.0, 240.0)
+    due = [step for step in range(1, 2401) if schedule.due(step)]
+    assert len(due) == 70
+    assert all(abs(step - (index + 1) * 240.0 / 7.0) < 1.0 for index, step in enumerate(due))
+
+
+@pytest.fixture(scope='module')
+def simulation():
+    config, _ = config_with(width=64, height=48, renderer='tiny')
+    with World(URDF, camera_spec(config), renderer='tiny') as world:
+        yield Simulation.from_config(world, config)
+
+
+@pytest.fixture
+def sim(simulation):
+    simulation.reset()
+    simulation.world.place_can(5.0, 5.0)
+    return simulation
+
+
+def test_frames_and_state_come_at_their_rates(sim):
+    start_s = sim.time_s
+    results = [sim.step() for _ in range(240)]
+    assert sim.time_s == pytest.approx(start_s + 1.0)
+    frames = [result for result in results if result.image is not None]
+    assert len(frames) == 15
+    assert frames[0].image.shape == (48, 64, 3)
+    assert sum(result.state_due for result in results) == 50
+    assert frames[1].time_s - frames[0].time_s == pytest.approx(1.0 / 15.0)
+
+
+def test_a_stale_command_brakes_the_robot(sim):
+    sim.command(0.2, 0.0)
+    stopped_s = None
+    for _ in range(2 * 240):
+        result = sim.step()
+        if stopped_s is None and sim.executed_twist == (0.0, 0.0):
+            stopped_s = result.time_s
+    start_offset_s = stopped_s - (sim.time_s - 2.0)
+    assert start_offset_s == pytest.approx(0.5 + 0.2, abs=0.01)
+    assert sim.world.robot_state().position[0] == pytest.approx(0.1, rel=0.02)
+
+
+def test_fresh_commands_keep_the_robot_moving(sim):
+    for step in range(2 * 240):
+        if step % 24 == 0:
+            sim.command(0.0, 1.0)
+        sim.step()
+    assert sim.executed_twist == (0.0, 1.0)
+    for _ in range(240):
+        sim.step()
+    assert sim.executed_twist == (0.0, 0.0)
+
+
+def test_place_can_refuses_overlap_and_bad_numbers(sim):
+    assert sim.place_can(1.0, 0.5)[0]
+    assert sim.world.can_home == (1.0, 0.5)
+    success, message = sim.place_can(MIN_CAN_CLEARANCE_M - 0.01, 0.0)
+    assert not success and 'overlap' in message
+    assert not sim.place_can(math.nan, 0.0)[0]
+    assert sim.world.can_home == (1.0, 0.5)
+
+
+def test_reset_restores_robot_and_can(sim):
+    sim.place_can(0.5, 0.0)
+    for _ in range(2 * 240):
+        sim.command(0.3, 0.0)
+        sim.step()
+    assert sim.world.can_pose()[0][0] > 0.55
+    sim.reset()
+    assert sim.executed_twist == (0.0, 0.0)
+    assert sim.world.robot_state().position[0] == pytest.approx(0.0, abs=1e-6)
+    assert sim.world.can_pose()[0][:2] == pytest.approx((0.5, 0.0))

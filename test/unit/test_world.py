@@ -1,0 +1,185 @@
+"""The pybullet world: physics, driving, can placement, contact and the rendered camera."""
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+from can_seeker.camera_geometry import camera_pose_from_mount
+from can_seeker.camera_mount import CameraMount
+from can_seeker.drive import TwistLimiter
+from can_seeker.world import (CAN_HEIGHT_M, CameraSpec, World, rgba_to_image)
+
+URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
+CAMERA = CameraSpec(160, 120, 45.0, CameraMount(0.25, 25.0))
+
+
+@pytest.fixture(scope='module')
+def shared_world():
+    with World(URDF, CAMERA, renderer='tiny') as world:
+        yield world
+
+
+@pytest.fixture
+def world(shared_world):
+    shared_world.reset_robot()
+    shared_world.place_can(5.0, 5.0)
+    return shared_world
+
+
+def drive(world, linear_mps, angular_radps, duration_s, limiter=None):
+    """Drive at a twist (acceleration-limited) for ``duration_s``, then brake for 1 s."""
+    limiter = limiter or TwistLimiter(1.0, 4.0)
+    for step in range(int(round((duration_s + 1.0) / world.dt_s))):
+        moving = step < round(duration_s / world.dt_s)
+        world.set_twist(*limiter.step(linear_mps if moving else 0.0,
+                                      angular_radps if moving else 0.0, world.dt_s))
+        world.step()
+
+
+def red_pixels(bgr):
+    blue, green, red = (bgr[:, :, channel].astype(int) for channel in range(3))
+    return (red > 60) & (red > 2 * green) & (red > 2 * blue)
+
+
+def project(point_m, camera=CAMERA):
+    """Pixel (u, v) of a point given in base_link of a robot at the origin."""
+    pose = camera_pose_from_mount(camera.mount)
+    x, y, z = pose.rotation.T @ (np.asarray(point_m) - np.asarray(pose.position))
+    intrinsics = camera.intrinsics
+    return intrinsics.fx * x / z + intrinsics.cx, intrinsics.fy * y / z + intrinsics.cy
+
+
+def test_robot_starts_level_on_the_floor_at_the_origin(world):
+    for _ in range(240):
+        world.step()
+    state = world.robot_state()
+    assert state.position == pytest.approx((0.0, 0.0, 0.0), abs=1e-4)
+    assert state.yaw_rad == pytest.approx(0.0, abs=1e-4)
+    roll_pitch = 2.0 * np.asarray(state.orientation_xyzw[:2])
+    assert np.abs(roll_pitch).max() < 1e-4
+
+
+def test_driving_straight_covers_speed_times_time(world):
+    drive(world, 0.2, 0.0, 1.0)
+    state = world.robot_state()
+    assert state.position[0] == pytest.approx(0.2, rel=0.01)
+    assert state.position[1] == pytest.approx(0.0, abs=0.002)
+    assert state.linear_velocity == pytest.approx((0.0, 0.0, 0.0), abs=1e-3)
+
+
+def test_turning_in_place_covers_rate_times_time(world):
+    drive(world, 0.0, 1.0, 1.0)
+    state = world.robot_state()
+    assert state.yaw_rad == pytest.approx(1.0, rel=0.01)
+    assert math.hypot(*state.position[:2]) < 0.002
+
+
+def test_twist_is_reported_in_base_link(world):
+    limiter = TwistLimiter(1.0, 4.0)
+    drive(world, 0.0, 1.0, math.pi / 2, limiter)
+    for _ in range(240):
+        world.set_twist(*limiter.step(0.2, 0.0, world.dt_s))
+        world.step()
+    state = world.robot_state()
+    assert state.yaw_rad == pytest.approx(math.pi / 2, abs=0.03)
+    assert state.linear_velocity[0] == pytest.approx(0.2, rel=0.01)
+    assert abs(state.linear_velocity[1]) < 0.005
+    assert state.angular_velocity[2] == pytest.approx(0.0, abs=0.01)
+
+
+def test_a_stopped_robot_does_not_creep(world):
+    drive(world, 0.2, 0.0, 0.5)
+    before = world.robot_state().position
+    for _ in range(5 * 240):
+        world.set_twist(0.0, 0.0)
+        world.step()
+    assert math.dist(before, world.robot_state().position) < 1e-4
+
+
+def test_reset_puts_the_robot_back_at_rest(world):
+    drive(world, 0.3, 0.5, 1.0)
+    world.reset_robot()
+    state = world.robot_state()
+    assert state.position == pytest.approx((0.0, 0.0, 0.0), abs=1e-6)
+    assert state.yaw_rad == pytest.approx(0.0, abs=1e-6)
+    assert state.linear_velocity == pytest.approx((0.0, 0.0, 0.0), abs=1e-6)
+
+
+def test_can_stands_where_it_is_placed(world):
+    world.place_can(1.2, -0.4)
+    for _ in range(240):
+        world.step()
+    position, orientation = world.can_pose()
+    assert position == pytest.approx((1.2, -0.4, CAN_HEIGHT_M / 2.0), abs=1e-3)
+    assert abs(orientation[3]) == pytest.approx(1.0, abs=1e-4)
+    assert world.can_home == (1.2, -0.4)
+    assert not world.robot_touches_can()
+
+
+def test_driving_into_the_can_touches_and_pushes_it(world):
+    world.place_can(0.45, 0.0)
+    limiter = TwistLimiter(1.0, 4.0)
+    touched = False
+    for _ in range(3 * 240):
+        world.set_twist(*limiter.step(0.2, 0.0, world.dt_s))
+        world.step()
+        touched = touched or world.robot_touches_can()
+    assert touched
+    can_x_m = world.can_pose()[0][0]
+    robot_x_m = world.robot_state().position[0]
+    assert can_x_m > 0.45 + 0.2
+    assert can_x_m - robot_x_m == pytest.approx(0.165 + 0.033, abs=0.03)
+
+
+def test_camera_sees_the_can_where_it_projects(world):
+    world.place_can(0.9, 0.2)
+    world.step()
+    bgr = world.render('bgr8')
+    assert bgr.shape == (120, 160, 3) and bgr.dtype == np.uint8
+    rows, columns = np.nonzero(red_pixels(bgr))
+    u, v = project((0.9, 0.2, CAN_HEIGHT_M / 2.0))
+    assert columns.mean() == pytest.approx(u, abs=1.5)
+    assert rows.mean() == pytest.approx(v, abs=1.5)
+    top_u, top_v = project((0.9 - 0.033, 0.2, CAN_HEIGHT_M))
+    bottom_u, bottom_v = project((0.9 - 0.033, 0.2, 0.0))
+    assert rows.max() - rows.min() + 1 == pytest.approx(bottom_v - top_v, abs=2.0)
+
+
+def test_rgb8_swaps_the_red_channel(world):
+    world.place_can(0.9, 0.0)
+    world.step()
+    bgr, rgb = world.render('bgr8'), world.render('rgb8')
+    assert red_pixels(bgr).sum() > 50
+    assert np.array_equal(rgb, bgr[:, :, ::-1])
+
+
+def test_can_colour_changes_the_image(world):
+    world.place_can(0.9, 0.0)
+    world.step()
+    world.set_can_color((0.05, 0.8, 0.05, 1.0))
+    try:
+        assert red_pixels(world.render('bgr8')).sum() == 0
+    finally:
+        world.set_can_color((0.8, 0.05, 0.05, 1.0))
+
+
+def test_rgba_to_image_orders_channels():
+    rgba = np.zeros((2, 3, 4), np.uint8)
+    rgba[..., 0], rgba[..., 1], rgba[..., 2], rgba[..., 3] = 10, 20, 30, 255
+    assert rgba_to_image(rgba, 'bgr8')[0, 0].tolist() == [30, 20, 10]
+    assert rgba_to_image(rgba, 'rgb8')[0, 0].tolist() == [10, 20, 30]
+    with pytest.raises(ValueError):
+        rgba_to_image(rgba, 'mono8')
+
+
+def test_unknown_renderer_is_refused():
+    with pytest.raises(ValueError):
+        World(URDF, CAMERA, renderer='vulkan')
+
+
+def test_auto_renderer_produces_a_scene():
+    with World(URDF, CameraSpec(64, 48, 45.0, CameraMount(0.25, 25.0)), renderer='auto') as world:
+        assert world.renderer_name in ('egl', 'tiny')
+        world.place_can(0.9, 0.0)
+        assert red_pixels(world.render('bgr8')).sum() > 5
