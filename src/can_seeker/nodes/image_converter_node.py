@@ -1,0 +1,183 @@
+"""image_converter: finds the red can in camera images and publishes a CanDetection per frame.
+
+Subscribes ``image`` (queue_size=1 and a large buff_size: always the newest frame) and
+``camera_info``; publishes ``~detection`` and, only while someone subscribes, ``~annotated``
+(bgr8), ``~mask`` and ``~edges`` (mono8). Thresholds are tunable with dynamic_reconfigure.
+The camera pose for range and bearing comes from TF (``~base_frame`` <- image frame), else
+from ``~camera_height``/``~camera_pitch_deg``.
+"""
+import os
+import queue
+import threading
+
+import cv2
+import rospy
+import tf2_ros
+from dynamic_reconfigure.server import Server
+from sensor_msgs.msg import CameraInfo, Image
+
+from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
+from can_seeker.cfg import ImageConverterConfig
+from can_seeker.image_converter import PARAMS, can_report, fallback_pose
+from can_seeker.image_decode import ImageDecodeError, NoColourError, decode_image_msg
+from can_seeker.msg import CanDetection
+from can_seeker.params import read_params
+from can_seeker.vision import DETECTOR_PARAMS, DetectorSettings, RedCanDetector, draw_annotation
+
+IMAGE_BUFF_SIZE = 2 ** 24
+"""Subscriber socket buffer (bytes): with queue_size=1 it keeps only the newest frame."""
+
+ERROR_PERIOD_S = 5.0
+
+
+def image_msg(header, array, encoding):
+    """sensor_msgs/Image of a contiguous uint8 array (mono8: 2-D, bgr8: 3-D)."""
+    height, width = array.shape[:2]
+    return Image(header=header, height=height, width=width, encoding=encoding, is_bigendian=0,
+                 step=array.strides[0], data=array.tobytes())
+
+
+class Display:
+    """One thread owns every OpenCV window; callbacks only hand over their newest frames."""
+
+    def __init__(self):
+        self._frames = queue.Queue(maxsize=1)
+        threading.Thread(target=self._run, name='image_converter_display', daemon=True).start()
+
+    def offer(self, frames):
+        """Queue {window name: BGR or mono8 image}, dropping a frame not shown yet."""
+        try:
+            self._frames.get_nowait()
+        except queue.Empty:
+            pass
+        self._frames.put_nowait(frames)
+
+    def _run(self):
+        while not rospy.is_shutdown():
+            try:
+                frames = self._frames.get(timeout=0.1)
+            except queue.Empty:
+                cv2.waitKey(1)
+                continue
+            for name, image in frames.items():
+                cv2.imshow(name, cv2.resize(image, None, fx=0.5, fy=0.5,
+                                            interpolation=cv2.INTER_AREA))
+            cv2.waitKey(1)
+        cv2.destroyAllWindows()
+
+
+class ImageConverterNode:
+    def __init__(self):
+        self.config = read_params(PARAMS, rospy.get_param, rospy.logwarn)
+        for spec in DETECTOR_PARAMS:
+            rospy.set_param('~' + spec.name, getattr(self.config, spec.name))
+        self.detector = RedCanDetector(DetectorSettings.from_values(self.config))
+        self.fallback_pose = fallback_pose(self.config.camera_height, self.config.camera_pitch_deg)
+        self.intrinsics = None
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.display = self._make_display(self.config.show)
+        self.detection_pub = rospy.Publisher('~detection', CanDetection, queue_size=10)
+        self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
+        self.mask_pub = rospy.Publisher('~mask', Image, queue_size=1)
+        self.edges_pub = rospy.Publisher('~edges', Image, queue_size=1)
+        self.reconfigure = Server(ImageConverterConfig, self.on_reconfigure)
+        rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
+        rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE)
+
+    @staticmethod
+    def _make_display(show):
+        if not show:
+            return None
+        if not os.environ.get('DISPLAY'):
+            rospy.logwarn('~show is true but there is no display (DISPLAY unset): running headless')
+            return None
+        return Display()
+
+    def on_reconfigure(self, config, _level):
+        """Apply new thresholds atomically; invalid values fall back to the defaults."""
+        values = read_params(DETECTOR_PARAMS, lambda name, default: config.get(name[1:], default),
+                             rospy.logwarn)
+        self.detector.settings = DetectorSettings.from_values(values)
+        for spec in DETECTOR_PARAMS:
+            config[spec.name] = getattr(values, spec.name)
+        return config
+
+    def on_camera_info(self, msg):
+        try:
+            self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
+        except ValueError as error:
+            rospy.logerr_throttle(ERROR_PERIOD_S, 'image_converter: ignoring camera_info: %s' % error)
+
+    def camera_geometry(self, msg):
+        """(pose, intrinsics) for this image; either is None when unknown."""
+        intrinsics = self.intrinsics
+        if intrinsics is None:
+            rospy.logwarn_throttle(ERROR_PERIOD_S, 'image_converter: no camera_info yet: '
+                                   'range and bearing are NaN')
+        elif (intrinsics.width, intrinsics.height) != (msg.width, msg.height):
+            rospy.logerr_throttle(ERROR_PERIOD_S, 'image_converter: camera_info is %dx%d but the '
+                                  'image is %dx%d: range and bearing are NaN' % (
+                                      intrinsics.width, intrinsics.height, msg.width, msg.height))
+            intrinsics = None
+        try:
+            transform = self.tf_buffer.lookup_transform(
+                self.config.base_frame, msg.header.frame_id, rospy.Time(0)).transform
+            pose = camera_pose_from_transform(
+                (transform.translation.x, transform.translation.y, transform.translation.z),
+                (transform.rotation.x, transform.rotation.y, transform.rotation.z,
+                 transform.rotation.w))
+        except (tf2_ros.TransformException, ValueError) as error:
+            pose = self.fallback_pose
+            rospy.logwarn_throttle(ERROR_PERIOD_S, 'image_converter: no camera pose from TF '
+                                   '(%s); %s' % (error, 'using ~camera_height and '
+                                                 '~camera_pitch_deg' if pose else
+                                                 'range and bearing are NaN'))
+        return pose, intrinsics
+
+    def on_image(self, msg):
+        try:
+            bgr = decode_image_msg(msg)
+        except NoColourError as error:
+            rospy.logwarn_once('image_converter: %s' % error)
+            self.publish_detection(msg, can_report(None, msg.width, msg.height, None, None, 0.0))
+            return
+        except ImageDecodeError as error:
+            rospy.logerr_throttle_identical(ERROR_PERIOD_S, 'image_converter: skipping frame: %s'
+                                            % error)
+            return
+        want_edges = self.display is not None or self.edges_pub.get_num_connections() > 0
+        result = self.detector.detect(bgr, want_edges)
+        pose, intrinsics = self.camera_geometry(msg) if result.found else (None, None)
+        report = can_report(result.blob, msg.width, msg.height, pose, intrinsics,
+                            self.config.can_diameter)
+        self.publish_detection(msg, report)
+        if self.mask_pub.get_num_connections() > 0:
+            self.mask_pub.publish(image_msg(msg.header, result.mask, 'mono8'))
+        if self.edges_pub.get_num_connections() > 0:
+            self.edges_pub.publish(image_msg(msg.header, result.edges, 'mono8'))
+        if self.display is None and self.annotated_pub.get_num_connections() == 0:
+            return
+        annotated = draw_annotation(bgr, result, report.range_m)
+        if self.annotated_pub.get_num_connections() > 0:
+            self.annotated_pub.publish(image_msg(msg.header, annotated, 'bgr8'))
+        if self.display is not None:
+            self.display.offer({'origin': bgr.copy(), 'result': annotated,
+                                'edges': result.edges.copy()})
+
+    def publish_detection(self, image, report):
+        detection = CanDetection(header=image.header, found=report.found,
+                                 centroid_x=report.centroid_x, centroid_y=report.centroid_y,
+                                 area=report.area, image_width=report.image_width,
+                                 image_height=report.image_height, bearing=report.bearing_rad,
+                                 range=report.range_m)
+        detection.bbox.x_offset, detection.bbox.y_offset, detection.bbox.width, \
+            detection.bbox.height = report.bbox
+        self.detection_pub.publish(detection)
+
+
+def main():
+    rospy.init_node('image_converter')
+    ImageConverterNode()
+    rospy.spin()
+
