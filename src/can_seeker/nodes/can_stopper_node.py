@@ -93,9 +93,10 @@ class CanStopperNode:
         self.cmd_pub.publish(twist(linear, angular))
         self.publish_state()
 
-    def publish_state(self):
+    def publish_state(self, force=False):
+        """Publish the state when it changed (or always, with ``force``)."""
         state = self.controller.state.value
-        if state != self.published_state:
+        if force or state != self.published_state:
             self.published_state = state
             self.state_pub.publish(String(data=state))
             rospy.loginfo('can_stopper: %s' % state)
@@ -103,7 +104,7 @@ class CanStopperNode:
     def on_reset(self, _request):
         with self.lock:
             self.controller.reset()
-        self.publish_state()
+        self.publish_state(force=True)
         return EmptyResponse()
 
     def on_shutdown(self):

@@ -1,0 +1,206 @@
+"""Closed-loop runs of the real nodes: start them under their own master, watch the ground truth,
+run trials through the sim and controller services.
+
+Shared by ``scripts/evaluate``, ``scripts/demo`` and the closed-loop rostests. Ground truth comes
+from the simulator: ``/odom`` (true base pose), ``/sim/can_pose``, ``/sim/contact``.
+"""
+import math
+import os
+import signal
+import socket
+import subprocess
+import threading
+import time
+
+import rosgraph
+import rospy
+from nav_msgs.msg import Odometry
+from geometry_msgs.msg import PoseStamped
+from std_msgs.msg import Bool, String
+from std_srvs.srv import Empty
+
+from can_seeker.srv import PlaceCan
+from can_seeker.trials import judge, path_length
+
+STATE_TOPIC = '/can_stopper/state'
+SERVICES = ('/sim/reset', '/sim/place_can', '/can_stopper/reset')
+POLL_S = 0.01
+SETTLE_S = 0.5
+"""Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
+
+
+def free_port() -> int:
+    """A TCP port nobody listens on right now."""
+    with socket.socket() as probe:
+        probe.bind(('127.0.0.1', 0))
+        return probe.getsockname()[1]
+
+
+def yaw_of(orientation) -> float:
+    """Heading (rad) of a geometry_msgs/Quaternion."""
+    return math.atan2(2.0 * (orientation.w * orientation.z + orientation.x * orientation.y),
+                      1.0 - 2.0 * (orientation.y * orientation.y + orientation.z * orientation.z))
+
+
+class LaunchedSystem:
+    """``roslaunch can_seeker demo.launch`` with its own master on a free port.
+
+    A context manager: on entry ROS_MASTER_URI points at the new master (for this process and
+    the launch) and its parameters are set, so ``rospy.init_node`` sees ``/use_sim_time``; on
+    exit the whole launch (its process group) is stopped.
+    """
+
+    def __init__(self, launch_args, log_path, startup_timeout_s=60.0):
+        self.launch_args = dict(launch_args)
+        self.log_path = log_path
+        self.startup_timeout_s = startup_timeout_s
+        self.process = None
+        self.log = None
+
+    def __enter__(self):
+        port = free_port()
+        uri = 'http://127.0.0.1:%d' % port
+        os.environ['ROS_MASTER_URI'] = uri
+        command = ['roslaunch', '-p', str(port), 'can_seeker', 'demo.launch']
+        command += ['%s:=%s' % item for item in sorted(self.launch_args.items())]
+        self.log = open(self.log_path, 'w')
+        self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT,
+                                        env=dict(os.environ), start_new_session=True)
+        deadline = time.monotonic() + self.startup_timeout_s
+        master = rosgraph.Master('/closed_loop')
+        while not (master.is_online() and master.hasParam('/use_sim_time')):
+            self._check_alive(deadline)
+            time.sleep(0.1)
+        return self
+
+    def _check_alive(self, deadline):
+        if self.process.poll() is not None:
+            raise RuntimeError('roslaunch exited with %s; see %s'
+                               % (self.process.returncode, self.log_path))
+        if time.monotonic() > deadline:
+            raise RuntimeError('the nodes did not come up in %.0f s; see %s'
+                               % (self.startup_timeout_s, self.log_path))
+
+    def wait_for_services(self):
+        """Block until the sim and controller services exist (or raise)."""
+        deadline = time.monotonic() + self.startup_timeout_s
+        for service in SERVICES:
+            while True:
+                self._check_alive(deadline)
+                try:
+                    rospy.wait_for_service(service, 1.0)
+                    break
+                except rospy.ROSException:
+                    continue
+
+    def __exit__(self, *exc_info):
+        if self.process is not None and self.process.poll() is None:
+            os.killpg(self.process.pid, signal.SIGINT)
+            try:
+                self.process.wait(20.0)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.process.pid, signal.SIGKILL)
+                self.process.wait()
+        if self.log is not None:
+            self.log.close()
+
+
+class TruthMonitor:
+    """Subscribes to the ground truth and the controller state; keeps what one trial needs.
+
+    Messages stamped before :meth:`start` (still in flight from before a reset) are ignored.
+    """
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.start(0.0)
+        rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=50)
+        rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=50)
+        rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=50)
+        rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10)
+
+    def start(self, now_s):
+        """Forget the previous trial: record from sim time ``now_s`` on."""
+        with self.lock:
+            self.start_s = now_s
+            self.path = []
+            self.pose = None
+            self.can_xy = None
+            self.contact = False
+            self.state = None
+            self.stopped_s = None
+            self.seen_search = False
+
+    def _on_odom(self, message):
+        if message.header.stamp.to_sec() < self.start_s:
+            return
+        position = message.pose.pose.position
+        with self.lock:
+            self.pose = (position.x, position.y, yaw_of(message.pose.pose.orientation))
+            self.path.append((position.x, position.y))
+
+    def _on_can_pose(self, message):
+        if message.header.stamp.to_sec() >= self.start_s:
+            with self.lock:
+                self.can_xy = (message.pose.position.x, message.pose.position.y)
+
+    def _on_contact(self, message):
+        if message.data and rospy.get_time() >= self.start_s:
+            with self.lock:
+                self.contact = True
+
+    def _on_state(self, message):
+        with self.lock:
+            self.state = message.data
+            if message.data == 'SEARCH':
+                self.seen_search = True
+            elif message.data == 'STOPPED' and self.seen_search and self.stopped_s is None:
+                self.stopped_s = rospy.get_time()
+
+    def snapshot(self):
+        """(pose, can_xy, contact, path copy, stopped_s) under the lock."""
+        with self.lock:
+            return self.pose, self.can_xy, self.contact, list(self.path), self.stopped_s
+
+
+class TrialRunner:
+    """Runs trials on a running system: reset the sim, place the can, reset the controller,
+    wait for STOPPED (or the time limit, sim time), let the base settle, judge on truth."""
+
+    def __init__(self, criteria):
+        self.criteria = criteria
+        self.monitor = TruthMonitor()
+        self.reset_sim = rospy.ServiceProxy('/sim/reset', Empty)
+        self.place_can = rospy.ServiceProxy('/sim/place_can', PlaceCan)
+        self.reset_controller = rospy.ServiceProxy('/can_stopper/reset', Empty)
+
+    def wait_sim(self, duration_s, done=lambda: False):
+        """Sleep ``duration_s`` of sim time, or until ``done()``; False if ROS shut down."""
+        end_s = rospy.get_time() + duration_s
+        while rospy.get_time() < end_s and not done():
+            if rospy.is_shutdown():
+                return False
+            time.sleep(POLL_S)
+        return True
+
+    def run(self, index, can_xy):
+        """One trial with the can centre at ``can_xy`` (odom, m); returns a TrialResult."""
+        self.reset_sim()
+        placed = self.place_can(can_xy[0], can_xy[1])
+        if not placed.success:
+            raise RuntimeError('place_can(%.3f, %.3f) failed: %s'
+                               % (can_xy[0], can_xy[1], placed.message))
+        start_s = rospy.get_time()
+        start_wall = time.monotonic()
+        self.monitor.start(start_s)
+        self.reset_controller()
+        self.wait_sim(self.criteria.time_limit_s, lambda: self.monitor.stopped_s is not None)
+        if self.monitor.stopped_s is not None:
+            self.wait_sim(SETTLE_S)
+        pose, final_can, contact, path, stopped_s = self.monitor.snapshot()
+        if pose is None or final_can is None:
+            raise RuntimeError('no ground truth from the simulator (/odom, /sim/can_pose)')
+        time_to_stop = None if stopped_s is None else stopped_s - start_s
+        return judge(index, can_xy, time_to_stop, pose[:2], pose[2], final_can, contact,
+                     path_length(path), rospy.get_time() - start_s,
+                     time.monotonic() - start_wall, self.criteria)

@@ -1,0 +1,133 @@
+"""demo: one headless closed-loop run with the can at a random pose, recorded.
+
+Starts the simulator, image_converter and can_stopper under their own master (demo.launch on a
+free port), stands the can at a random bearing and distance from ``--seed`` (printed; pass it
+again to repeat the run), waits until the robot has stopped or the time limit, then writes to
+``--output``: ``demo.mp4`` (annotated camera next to a top-down view of the path and the can),
+``trajectory.png`` and ``summary.json``, and prints the summary. Times are sim time.
+"""
+import argparse
+import json
+import os
+import random
+import sys
+import threading
+
+import cv2
+import rospy
+from cv_bridge import CvBridge, CvBridgeError
+from sensor_msgs.msg import Image
+
+from can_seeker.nodes.closed_loop import LaunchedSystem, TrialRunner
+from can_seeker.simulation import random_can_position
+from can_seeker.topdown import TopDownView, draw_topdown, plot_trajectory, side_by_side
+from can_seeker.trials import Criteria
+from can_seeker.video import Mp4Writer
+
+VIDEO_HEIGHT_PX = 480
+VIEW_MARGIN_M = 0.6
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(prog='demo', description=__doc__.split('\n\n')[0],
+                                     formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    parser.add_argument('--seed', type=int, default=None,
+                        help='seed of the can placement (default: a random one, printed)')
+    parser.add_argument('--output', default='demo_output', help='output directory')
+    parser.add_argument('--min-distance', type=float, default=0.5,
+                        help='nearest can centre from the robot start (m)')
+    parser.add_argument('--max-distance', type=float, default=3.0,
+                        help='farthest can centre from the robot start (m)')
+    parser.add_argument('--time-limit', type=float, default=90.0,
+                        help='sim time allowed to reach STOPPED (s)')
+    parser.add_argument('--real-time-factor', type=float, default=1.0,
+                        help='sim speed; 0 runs as fast as possible')
+    return parser.parse_args(argv)
+
+
+class VideoRecorder:
+    """Annotated camera frames from image_converter, each next to the top-down view of the
+    moment, into an MP4 at the camera rate."""
+
+    def __init__(self, filename, fps, monitor, view, criteria):
+        self.writer = Mp4Writer(filename, fps)
+        self.monitor = monitor
+        self.view = view
+        self.criteria = criteria
+        self.bridge = CvBridge()
+        self.lock = threading.Lock()
+        self.closed = False
+        rospy.Subscriber('/image_converter/annotated', Image, self.on_image, queue_size=5,
+                         buff_size=2 ** 24)
+
+    def on_image(self, message):
+        try:
+            camera = self.bridge.imgmsg_to_cv2(message, desired_encoding='bgr8')
+        except (CvBridgeError, TypeError) as error:
+            rospy.logerr_throttle(5.0, 'demo: cannot convert the annotated image: %s' % error)
+            return
+        scale = max(1, VIDEO_HEIGHT_PX // camera.shape[0])
+        camera = cv2.resize(camera, None, fx=scale, fy=scale, interpolation=cv2.INTER_NEAREST)
+        pose, can_xy, _, path, _ = self.monitor.snapshot()
+        if pose is None or can_xy is None:
+            return
+        caption = 't %.1f s  %s' % (message.header.stamp.to_sec() - self.monitor.start_s,
+                                    self.monitor.state or '')
+        top = draw_topdown(self.view, path, pose, can_xy, self.criteria.robot_radius_m,
+                           self.criteria.can_radius_m, caption)
+        with self.lock:
+            if not self.closed:
+                self.writer.write(side_by_side(camera, top))
+
+    def close(self):
+        with self.lock:
+            self.closed = True
+            return self.writer.close()
+
+
+def main():
+    args = parse_args(rospy.myargv()[1:])
+    seed = args.seed if args.seed is not None else random.SystemRandom().randrange(2 ** 31)
+    print('demo: seed %d (repeat with --seed %d, or make demo SEED=%d)' % (seed, seed, seed))
+    os.makedirs(args.output, exist_ok=True)
+    can_xy = random_can_position(seed, args.min_distance, args.max_distance)
+    launch = {'can_placement': 'fixed', 'can_x': can_xy[0], 'can_y': can_xy[1],
+              'real_time_factor': args.real_time_factor}
+    with LaunchedSystem(launch, os.path.join(args.output, 'roslaunch.log')) as system:
+        rospy.init_node('demo', disable_signals=True)
+        system.wait_for_services()
+        criteria = Criteria(stop_distance_m=rospy.get_param('/can_stopper/stop_distance'),
+                            time_limit_s=args.time_limit)
+        runner = TrialRunner(criteria)
+        view = TopDownView.framing([(0.0, 0.0), can_xy], VIDEO_HEIGHT_PX, VIEW_MARGIN_M)
+        recorder = VideoRecorder(os.path.join(args.output, 'demo.mp4'),
+                                 rospy.get_param('/sim/camera_rate'), runner.monitor, view,
+                                 criteria)
+        result = runner.run(0, can_xy)
+        video_ok = recorder.close()
+        pose, final_can, _, path, _ = runner.monitor.snapshot()
+        rospy.signal_shutdown('demo done')
+    plot_trajectory(os.path.join(args.output, 'trajectory.png'), path, pose, final_can,
+                    criteria.robot_radius_m, criteria.can_radius_m, criteria.stop_distance_m,
+                    'seed %d: gap %.3f m (target %.2f), bearing %.1f deg'
+                    % (seed, result.gap_m, criteria.stop_distance_m, result.bearing_deg))
+    summary = {'seed': seed, 'can_x_m': can_xy[0], 'can_y_m': can_xy[1],
+               'stopped': result.stopped, 'time_to_stop_s': result.time_to_stop_s,
+               'final_gap_m': result.gap_m, 'target_gap_m': criteria.stop_distance_m,
+               'gap_error_m': result.gap_m - criteria.stop_distance_m,
+               'bearing_deg': result.bearing_deg, 'path_length_m': result.path_length_m,
+               'contact': result.contact, 'success': result.success,
+               'video_frames': recorder.writer.frames if video_ok else 0}
+    with open(os.path.join(args.output, 'summary.json'), 'w') as output:
+        json.dump(summary, output, indent=2)
+    time_text = ('%.1f s' % result.time_to_stop_s if result.stopped
+                 else 'not stopped within %.0f s' % args.time_limit)
+    print('demo: can at (%.2f, %.2f) m; final gap %.3f m (target %.2f, error %+.1f mm), '
+          'bearing %+.2f deg, time to stop %s (sim), path %.2f m, contact %s -> %s'
+          % (can_xy[0], can_xy[1], result.gap_m, criteria.stop_distance_m,
+             1000.0 * summary['gap_error_m'], result.bearing_deg, time_text,
+             result.path_length_m, 'yes' if result.contact else 'no',
+             'SUCCESS' if result.success else 'FAILED'))
+    print('demo: wrote %s/demo.mp4 (%d frames), trajectory.png, summary.json'
+          % (args.output, summary['video_frames']))
+    sys.exit(0 if result.success else 1)
