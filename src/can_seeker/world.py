@@ -8,12 +8,14 @@ thread-safe.
 """
 import importlib.util
 import math
+import os
 from dataclasses import dataclass
 from typing import Sequence, Tuple
 
 import numpy as np
 import pybullet
 import pybullet_data
+import rospkg
 from pybullet_utils.bullet_client import BulletClient
 
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
@@ -36,6 +38,11 @@ CONTACT_TOLERANCE_M = 0.001
 """Contact points farther apart than this (m) are a near miss, not a touch."""
 
 RENDERERS = ('auto', 'egl', 'tiny')
+
+
+def package_urdf_path() -> str:
+    """The robot URDF of the installed can_seeker package (also its robot_description)."""
+    return os.path.join(rospkg.RosPack().get_path('can_seeker'), 'urdf', 'can_seeker_robot.urdf')
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,6 @@ import math
 import os
 import time
 
-import rospkg
 import rospy
 import tf2_ros
 from geometry_msgs.msg import PoseStamped, TransformStamped, Twist
@@ -25,9 +24,8 @@ from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.params import read_params
 from can_seeker.simulation import PARAMS, Simulation, camera_spec, checked_config
 from can_seeker.srv import PlaceCan, PlaceCanResponse
-from can_seeker.world import World
+from can_seeker.world import World, package_urdf_path
 
-ROBOT_URDF = os.path.join('urdf', 'can_seeker_robot.urdf')
 ODOM_FRAME = 'odom'
 BASE_FRAME = 'base_link'
 CAMERA_FRAME = 'camera_link'
@@ -72,9 +70,8 @@ class SimNode:
         if config.gui and not os.environ.get('DISPLAY'):
             rospy.logwarn('~gui is true but no display is set (DISPLAY); running headless')
             config.gui = False
-        urdf_path = os.path.join(rospkg.RosPack().get_path('can_seeker'), ROBOT_URDF)
         spec = camera_spec(config)
-        world = World(urdf_path, spec, config.physics_rate, config.renderer, config.gui,
+        world = World(package_urdf_path(), spec, config.physics_rate, config.renderer, config.gui,
                       config.can_color)
         world.place_can(*config.can_position)
         rospy.loginfo('sim: rendering %dx%d at %.1f Hz with %s; can at (%.3f, %.3f)',
