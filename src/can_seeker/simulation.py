@@ -15,9 +15,10 @@ import numpy as np
 from can_seeker.camera_mount import CameraMount
 from can_seeker.drive import CommandWatchdog, TwistLimiter
 from can_seeker.params import Param
-from can_seeker.world import BODY_RADIUS_M, CAN_RADIUS_M, RENDERERS, CameraSpec, World
+from can_seeker.world import (BODY_RADIUS_M, CAN_RADIUS_M, CAN_RGBA, RENDERERS, CameraSpec,
+                              World)
 
-DEFAULT_CAN_RGBA = '0.8 0.05 0.05 1'
+DEFAULT_CAN_RGBA = ' '.join('%g' % channel for channel in CAN_RGBA)
 
 PARAMS = (
     Param('gui', False, 'open the pybullet GUI; only when a display exists (DISPLAY set), '

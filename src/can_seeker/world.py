@@ -18,7 +18,7 @@ import pybullet_data
 import rospkg
 from pybullet_utils.bullet_client import BulletClient
 
-from can_seeker.camera_geometry import intrinsics_from_vertical_fov
+from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_matrix
 from can_seeker.camera_mount import CameraMount
 from can_seeker.drive import wheel_speeds
 
@@ -31,6 +31,8 @@ CAN_HEIGHT_M = 0.122
 CAN_RADIUS_M = 0.033
 CAN_MASS_KG = 0.37
 CAN_LATERAL_FRICTION = 0.5
+CAN_RGBA = (0.8, 0.05, 0.05, 1.0)
+"""Default can colour (red, green, blue, alpha in 0-1)."""
 
 CLIP_NEAR_M = 0.02
 CLIP_FAR_M = 30.0
@@ -85,10 +87,6 @@ def rgba_to_image(rgba: np.ndarray, encoding: str) -> np.ndarray:
     raise ValueError('unsupported encoding %r (bgr8 or rgb8)' % (encoding,))
 
 
-def _rotation_matrix(client, orientation_xyzw) -> np.ndarray:
-    return np.array(client.getMatrixFromQuaternion(orientation_xyzw)).reshape(3, 3)
-
-
 class World:
     """Floor, robot (from ``urdf_path``) and can; stepped at ``physics_rate_hz``.
 
@@ -98,7 +96,7 @@ class World:
 
     def __init__(self, urdf_path: str, camera: CameraSpec, physics_rate_hz: float = 240.0,
                  renderer: str = 'auto', gui: bool = False,
-                 can_rgba: Sequence[float] = (0.8, 0.05, 0.05, 1.0)):
+                 can_rgba: Sequence[float] = CAN_RGBA):
         if renderer not in RENDERERS:
             raise ValueError('renderer must be one of %s, got %r' % (', '.join(RENDERERS), renderer))
         self.camera = camera
@@ -116,7 +114,7 @@ class World:
         client.setAdditionalSearchPath(pybullet_data.getDataPath())
         client.setGravity(0.0, 0.0, -9.81)
         client.setTimeStep(self.dt_s)
-        self._floor = client.loadURDF('plane.urdf')
+        client.loadURDF('plane.urdf')
         self._robot = client.loadURDF(urdf_path, useFixedBase=False)
         self._wheel_joints = self._joint_indices(('left_wheel_joint', 'right_wheel_joint'))
         dynamics = client.getDynamicsInfo(self._robot, -1)
@@ -230,7 +228,7 @@ class World:
         com_velocity, angular_world = client.getBaseVelocity(self._robot)
         lever_m = np.subtract(position, com_position)
         linear_world = np.add(com_velocity, np.cross(angular_world, lever_m))
-        world_from_base = _rotation_matrix(client, orientation)
+        world_from_base = quaternion_matrix(*orientation)
         return RobotState(tuple(position), tuple(orientation),
                           tuple(world_from_base.T @ linear_world),
                           tuple(world_from_base.T @ np.asarray(angular_world)))
@@ -251,7 +249,7 @@ class World:
         mount = self.camera.mount
         position, orientation = self._client.multiplyTransforms(
             state.position, state.orientation_xyzw, mount.translation_m, mount.rotation_xyzw)
-        return np.asarray(position), _rotation_matrix(self._client, orientation)
+        return np.asarray(position), quaternion_matrix(*orientation)
 
     def render_rgba(self) -> np.ndarray:
         """The camera image as an HxWx4 uint8 RGBA array."""

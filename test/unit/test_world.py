@@ -183,3 +183,14 @@ def test_auto_renderer_produces_a_scene():
         assert world.renderer_name in ('egl', 'tiny')
         world.place_can(0.9, 0.0)
         assert red_pixels(world.render('bgr8')).sum() > 5
+
+
+def test_missing_egl_plugin_falls_back_to_tinyrenderer(monkeypatch):
+    monkeypatch.setattr('can_seeker.world.importlib.util.find_spec', lambda name: None)
+    small = CameraSpec(64, 48, 45.0, CameraMount(0.25, 25.0))
+    with World(URDF, small, renderer='auto') as world:
+        assert world.renderer_name == 'tiny'
+        world.place_can(0.9, 0.0)
+        assert red_pixels(world.render('bgr8')).sum() > 5
+    with pytest.raises(RuntimeError):
+        World(URDF, small, renderer='egl')
