@@ -1,16 +1,15 @@
-"""Benchmark of the simulator without ROS: how many times faster than real time it runs.
+"""Benchmark of the simulator world without ROS: how many times faster than real time it runs.
 
 The robot drives a slow circle past the can so every frame has the floor, the can and motion in
 it. Wall time covers physics, rendering and the RGBA -> bgr8 conversion, i.e. everything the
 node does per step except publishing.
 """
-import argparse
-import os
 import statistics
 import time
+from types import SimpleNamespace
 
 from can_seeker.simulation import PARAMS, Simulation, camera_spec, checked_config
-from can_seeker.world import RENDERERS, World, package_urdf_path
+from can_seeker.world import World
 
 CASES = ((320, 240, 15.0, 3.0), (640, 480, 30.0, 1.0))
 """(width px, height px, camera rate Hz, target real-time factor)."""
@@ -21,7 +20,7 @@ def run_case(urdf_path, renderer, width, height, camera_rate_hz, duration_s):
     defaults = {spec.name: spec.default for spec in PARAMS}
     defaults.update(width=width, height=height, camera_rate=camera_rate_hz, renderer=renderer,
                     can_placement='fixed', can_x=1.0, can_y=0.2)
-    config = checked_config(argparse.Namespace(**defaults), print)
+    config = checked_config(SimpleNamespace(**defaults), print)
     with World(urdf_path, camera_spec(config), config.physics_rate, renderer,
                can_rgba=config.can_color) as world:
         world.place_can(*config.can_position)
@@ -44,25 +43,3 @@ def run_case(urdf_path, renderer, width, height, camera_rate_hz, duration_s):
             'wall_s': wall_s,
         }
 
-
-def main(argv=None):
-    """Print the real-time factor of each camera configuration."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('--renderer', choices=RENDERERS, default='auto',
-                        help='camera renderer (default: auto, EGL with TinyRenderer fallback)')
-    parser.add_argument('--duration', type=float, default=10.0,
-                        help='sim time per configuration (s)')
-    parser.add_argument('--urdf', help='robot URDF (default: the package\'s)')
-    args = parser.parse_args(argv)
-    urdf_path = args.urdf or package_urdf_path()
-    print('simulator benchmark: %.0f s of sim time per case, physics at 240 Hz, %d cores'
-          % (args.duration, os.cpu_count()))
-    print('| camera | renderer | real-time factor | target | render + convert (ms/frame) '
-          '| physics (us/step) |')
-    print('|---|---|---|---|---|---|')
-    for width, height, rate_hz, target in CASES:
-        result = run_case(urdf_path, args.renderer, width, height, rate_hz, args.duration)
-        verdict = 'met' if result['real_time_factor'] >= target else 'MISSED'
-        print('| %dx%d @ %g Hz | %s | %.2fx | >= %gx (%s) | %.1f | %.0f |'
-              % (width, height, rate_hz, result['renderer'], result['real_time_factor'], target,
-                 verdict, result['frame_ms'], result['step_us']))
