@@ -1,0 +1,178 @@
+"""bag_detect: the image_converter pipeline over a bag, offline (rosbag API, no master).
+
+Writes one CSV row per image (stamp, found, centroid, area, bbox, range, bearing) and
+optionally an MP4 of the annotated images. Camera pose from the bag's TF (base frame <- image
+frame), else from the camera mount parameters, exactly as the node does.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+import warnings
+
+import cv2
+import rosbag
+import rospy
+import tf2_ros
+from tqdm import tqdm
+
+from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
+from can_seeker.image_converter import PARAMS, can_report, fallback_pose
+from can_seeker.image_decode import ImageDecodeError, NoColourError, decode_image_msg
+from can_seeker.params import read_params
+from can_seeker.vision import DetectorSettings, RedCanDetector, draw_annotation
+
+CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
+               'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method')
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('bag', help='input bag file')
+    parser.add_argument('--csv', help='output CSV (default: the bag name with .csv)')
+    parser.add_argument('--video', help='also write the annotated images to this MP4 file')
+    parser.add_argument('--image-topic', default='/camera/image_raw')
+    parser.add_argument('--camera-info-topic', default='/camera/camera_info')
+    parser.add_argument('--param', action='append', default=[], metavar='NAME=VALUE',
+                        help='override an image_converter parameter (repeatable), e.g. '
+                             'hue_max=10; see the README table')
+    return parser.parse_args(argv)
+
+
+def read_overrides(pairs):
+    """The image_converter parameters with NAME=VALUE overrides (bad ones warned, default)."""
+    overrides = {}
+    for pair in pairs:
+        name, _, value = pair.partition('=')
+        overrides['~' + name.strip()] = value.strip()
+    known = {'~' + spec.name for spec in PARAMS}
+    for name in sorted(set(overrides) - known):
+        print('bag_detect: unknown parameter %s ignored' % name[1:], file=sys.stderr)
+    return read_params(PARAMS, lambda name, default: overrides.get(name, default),
+                       lambda text: print('bag_detect: ' + text, file=sys.stderr))
+
+
+def report_row(stamp_s, report):
+    """CSV values of one frame's CanReport."""
+    return ('%.6f' % stamp_s, int(report.found), '%.2f' % report.centroid_x,
+            '%.2f' % report.centroid_y, '%.0f' % report.area) + tuple(report.bbox) + (
+        '%.4f' % report.range_m if math.isfinite(report.range_m) else 'nan',
+        '%.4f' % report.bearing_rad if math.isfinite(report.bearing_rad) else 'nan',
+        report.range_method)
+
+
+class BagDetector:
+    """Runs the pipeline over the messages of one bag in recorded order."""
+
+    def __init__(self, config, args):
+        self.config = config
+        self.args = args
+        self.detector = RedCanDetector(DetectorSettings.from_values(config))
+        self.fallback_pose = fallback_pose(config.camera_height, config.camera_pitch_deg)
+        self.tf = tf2_ros.BufferCore(rospy.Duration(3600.0))
+        self.intrinsics = None
+        self.video = None
+        self.video_size = None
+        self.skipped = {}
+
+    def camera_pose(self, msg):
+        try:
+            transform = self.tf.lookup_transform_core(self.config.base_frame, msg.header.frame_id,
+                                                      rospy.Time(0)).transform
+        except (tf2_ros.TransformException, ValueError):
+            return self.fallback_pose
+        return camera_pose_from_transform(
+            (transform.translation.x, transform.translation.y, transform.translation.z),
+            (transform.rotation.x, transform.rotation.y, transform.rotation.z, transform.rotation.w))
+
+    def on_image(self, msg, fps):
+        """CanReport of one image message, or None when the frame cannot be read."""
+        try:
+            bgr = decode_image_msg(msg)
+        except NoColourError:
+            return can_report(None, msg.width, msg.height, None, None, 0.0)
+        except ImageDecodeError as error:
+            reason = str(error).split(':')[0]
+            self.skipped[reason] = self.skipped.get(reason, 0) + 1
+            return None
+        result = self.detector.detect(bgr)
+        intrinsics = self.intrinsics
+        if intrinsics is not None and (intrinsics.width, intrinsics.height) != (msg.width, msg.height):
+            intrinsics = None
+        report = can_report(result.blob, msg.width, msg.height, self.camera_pose(msg),
+                            intrinsics, self.config.can_diameter)
+        if self.args.video:
+            self.write_video(draw_annotation(bgr, result, report.range_m), fps)
+        return report
+
+    def write_video(self, annotated, fps):
+        """Append a frame; frames of another size than the first are left out of the video."""
+        size = (annotated.shape[1], annotated.shape[0])
+        if self.video is None:
+            self.video_size = size
+            self.video = cv2.VideoWriter(self.args.video, cv2.VideoWriter_fourcc(*'mp4v'), fps,
+                                         size)
+            if not self.video.isOpened():
+                raise SystemExit('bag_detect: cannot write %s' % self.args.video)
+        if size == self.video_size:
+            self.video.write(annotated)
+
+    def set_camera_info(self, msg):
+        try:
+            self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
+        except ValueError:
+            self.intrinsics = None
+
+    def add_transforms(self, msg, static):
+        with warnings.catch_warnings():
+            # Bag messages are generated classes, not geometry_msgs': tf2 warns, then copes.
+            warnings.simplefilter('ignore', UserWarning)
+            for transform in msg.transforms:
+                if static:
+                    self.tf.set_transform_static(transform, 'bag')
+                else:
+                    self.tf.set_transform(transform, 'bag')
+
+    def run(self, bag, writer):
+        """Static TF and the first camera_info first, so the first frames get a range too."""
+        for _, msg, _ in bag.read_messages(topics=['/tf_static']):
+            self.add_transforms(msg, static=True)
+        for _, msg, _ in bag.read_messages(topics=[self.args.camera_info_topic]):
+            self.set_camera_info(msg)
+            break
+        topics = [self.args.image_topic, self.args.camera_info_topic, '/tf']
+        image_count = bag.get_message_count(self.args.image_topic)
+        duration_s = max(bag.get_end_time() - bag.get_start_time(), 1e-3)
+        fps = max(1.0, min(120.0, image_count / duration_s))
+        found = 0
+        with tqdm(total=image_count, unit='frame', desc='bag_detect') as progress:
+            for topic, msg, _ in bag.read_messages(topics=topics):
+                if topic == '/tf':
+                    self.add_transforms(msg, static=False)
+                elif topic == self.args.camera_info_topic:
+                    self.set_camera_info(msg)
+                else:
+                    report = self.on_image(msg, fps)
+                    progress.update(1)
+                    if report is not None:
+                        writer.writerow(report_row(msg.header.stamp.to_sec(), report))
+                        found += report.found
+        if self.video is not None:
+            self.video.release()
+        return image_count, found
+
+
+def main(argv=None):
+    args = parse_args(rospy.myargv(sys.argv)[1:] if argv is None else argv)
+    config = read_overrides(args.param)
+    csv_path = args.csv or os.path.splitext(args.bag)[0] + '.csv'
+    with rosbag.Bag(args.bag) as bag, open(csv_path, 'w', newline='') as csv_file:
+        writer = csv.writer(csv_file)
+        writer.writerow(CSV_COLUMNS)
+        detector = BagDetector(config, args)
+        frames, found = detector.run(bag, writer)
+    print('bag_detect: %d frames, can found in %d; CSV: %s%s' % (
+        frames, found, csv_path, '; video: %s' % args.video if args.video else ''))
+    for reason, count in sorted(detector.skipped.items()):
+        print('bag_detect: skipped %d frames: %s' % (count, reason), file=sys.stderr)
