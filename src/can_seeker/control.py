@@ -175,8 +175,13 @@ class Controller:
                                   config.max_linear_accel, config.max_angular_accel)
         self.reset()
 
-    def reset(self) -> None:
-        """Back to SEARCH (turning left), at rest, with no detection seen yet."""
+    def reset(self, now_s: float = -math.inf) -> None:
+        """Back to SEARCH (turning left), at rest, with no detection seen yet.
+
+        Detections of images taken before ``now_s`` show the world before the reset (the can
+        may have been moved since) and are ignored.
+        """
+        self.ignore_before_s = now_s
         self.state = State.SEARCH
         self.turn_sign = 1.0
         self.sighting: Optional[Sighting] = None
@@ -189,8 +194,12 @@ class Controller:
         """(gap error m, bearing rad) of the current sighting."""
         return self.sighting.gap_m - self.config.stop_distance, self.sighting.bearing_rad
 
-    def observe(self, sighting: Optional[Sighting], now_s: float) -> None:
-        """Take one detection message: ``sighting`` is None when it showed no can."""
+    def observe(self, sighting: Optional[Sighting], now_s: float,
+                image_stamp_s: float = math.inf) -> None:
+        """Take one detection message received at ``now_s`` of an image taken at
+        ``image_stamp_s``: ``sighting`` is None when it showed no can."""
+        if image_stamp_s < self.ignore_before_s:
+            return
         self.last_message_s = now_s
         self.sighting = sighting
         if sighting is not None and sighting.bearing_rad != 0.0:

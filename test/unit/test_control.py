@@ -273,6 +273,17 @@ def test_reset_returns_to_search_at_rest():
     assert controller.turn_sign == 1.0
 
 
+def test_reset_ignores_detections_of_images_taken_before_it():
+    controller = make_controller()
+    run(controller, ahead(STOP), 0.0, 2.0)
+    controller.reset(10.0)
+    controller.observe(ahead(STOP), 10.05, image_stamp_s=9.95)
+    assert controller.state is State.SEARCH
+    assert controller.command(10.05) == (0.0, 0.0)
+    controller.observe(ahead(1.0), 10.1, image_stamp_s=10.02)
+    assert controller.state is State.APPROACH
+
+
 # Watchdog and limits -------------------------------------------------------------------------
 
 def test_no_detection_yet_gives_zero():

@@ -80,7 +80,7 @@ class CanStopperNode:
                                            camera, self.params.robot_radius,
                                            self.params.can_radius)
         with self.lock:
-            self.controller.observe(sighting, rospy.get_time())
+            self.controller.observe(sighting, rospy.get_time(), detection.header.stamp.to_sec())
 
     def on_timer(self, _event):
         now = rospy.get_time()
@@ -103,7 +103,7 @@ class CanStopperNode:
 
     def on_reset(self, _request):
         with self.lock:
-            self.controller.reset()
+            self.controller.reset(rospy.get_time())
         self.publish_state(force=True)
         return EmptyResponse()
 
