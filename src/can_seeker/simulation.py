@@ -133,12 +133,14 @@ class RateSchedule:
 
 @dataclass(frozen=True)
 class StepResult:
-    """What one step produced: the new sim time (s), a camera frame if one was due, and
-    whether the robot/can state is due for publishing."""
+    """What one step produced: the new sim time (s), a camera frame if one was due, whether the
+    robot/can state is due for publishing and, if so, whether the robot touched the can at any
+    step since the previous state (a brief touch between two states is not lost)."""
 
     time_s: float
     image: Optional[np.ndarray]
     state_due: bool
+    touched_can: bool
 
 
 class Simulation:
@@ -155,6 +157,7 @@ class Simulation:
         self._state_schedule = RateSchedule(state_rate_hz, physics_rate_hz)
         self._watchdog = CommandWatchdog(cmd_timeout_s)
         self._limiter = TwistLimiter(max_linear_accel_mps2, max_angular_accel_radps2)
+        self._touched_can = False
 
     @classmethod
     def from_config(cls, world: World, config: SimpleNamespace) -> 'Simulation':
@@ -207,6 +210,10 @@ class Simulation:
         self.world.set_twist(linear_mps, angular_radps)
         self.world.step()
         self.steps += 1
+        self._touched_can = self._touched_can or self.world.robot_touches_can()
         image = (self.world.render(self.encoding) if self._camera_schedule.due(self.steps)
                  else None)
-        return StepResult(self.time_s, image, self._state_schedule.due(self.steps))
+        if not self._state_schedule.due(self.steps):
+            return StepResult(self.time_s, image, False, False)
+        touched_can, self._touched_can = self._touched_can, False
+        return StepResult(self.time_s, image, True, touched_can)

@@ -144,6 +144,22 @@ def test_fresh_commands_keep_the_robot_moving(sim):
     assert sim.executed_twist == (0.0, 0.0)
 
 
+def test_contact_is_reported_with_the_state(sim):
+    sim.place_can(0.4, 0.0)
+    touches = []
+    for _ in range(2 * 240):
+        sim.command(0.2, 0.0)
+        result = sim.step()
+        if result.state_due:
+            touches.append(result.touched_can)
+        else:
+            assert not result.touched_can
+    first_touch = touches.index(True)
+    assert first_touch > 5
+    assert not any(touches[:first_touch])
+    assert sum(touches) > len(touches) // 4
+
+
 def test_place_can_refuses_overlap_and_bad_numbers(sim):
     assert sim.place_can(1.0, 0.5)[0]
     assert sim.world.can_home == (1.0, 0.5)

@@ -3,7 +3,8 @@
 Publishes /clock (every physics step), /camera/image_raw + /camera/camera_info (same stamp: the
 sim time the frame was rendered), /odom and TF odom->base_link (perfect odometry: the true pose
 and twist from pybullet), static TF base_link->camera_link->camera_optical_frame from the actual
-camera parameters, and ground truth /sim/can_pose and /sim/contact. Subscribes /cmd_vel.
+camera parameters, and ground truth /sim/can_pose and /sim/contact (whether the robot touched the can at any physics
+step since the previous message). Subscribes /cmd_vel.
 Services /sim/reset and /sim/place_can run on the simulation thread between physics steps.
 """
 import math
@@ -124,7 +125,7 @@ class SimNode:
         except TimeoutError as error:
             success, message = False, str(error)
         if not success:
-            rospy.logerr('sim: place_can: %s', message)
+            rospy.logerr_throttle(ERROR_THROTTLE_S, 'sim: place_can: %s' % message)
         return PlaceCanResponse(success, message)
 
     def _publish_clock(self):
@@ -142,7 +143,7 @@ class SimNode:
         self._image_pub.publish(message)
         self._info_pub.publish(self._camera_info)
 
-    def _publish_state(self, stamp):
+    def _publish_state(self, stamp, touched_can):
         world = self._sim.world
         robot = world.robot_state()
         odom = Odometry()
@@ -167,7 +168,7 @@ class SimNode:
         (can.pose.orientation.x, can.pose.orientation.y, can.pose.orientation.z,
          can.pose.orientation.w) = can_orientation
         self._can_pose_pub.publish(can)
-        self._contact_pub.publish(Bool(data=world.robot_touches_can()))
+        self._contact_pub.publish(Bool(data=touched_can))
 
     def spin(self):
         """Step, publish and pace until shutdown."""
@@ -180,7 +181,7 @@ class SimNode:
             if result.image is not None:
                 self._publish_image(result.image, stamp)
             if result.state_due:
-                self._publish_state(stamp)
+                self._publish_state(stamp, result.touched_can)
             if self._real_time_factor > 0.0:
                 lag_s = (time.monotonic() - wall_start_s
                          - (result.time_s - sim_start_s) / self._real_time_factor)
