@@ -11,7 +11,8 @@ CAMERA_FORWARD_M = 0.12
 """Distance of camera_link ahead of base_link (m)."""
 
 OPTICAL_IN_CAMERA_LINK_XYZW = (-0.5, 0.5, -0.5, 0.5)
-"""Rotation of camera_optical_frame in camera_link (quaternion x, y, z, w): rpy (-pi/2, 0, -pi/2)."""
+"""Rotation of camera_optical_frame in camera_link (quaternion x, y, z, w), i.e. URDF rpy
+(-pi/2, 0, -pi/2)."""
 
 
 @dataclass(frozen=True)

@@ -64,7 +64,10 @@ class CameraSpec:
 
 @dataclass(frozen=True)
 class RobotState:
-    """base_link in the world (odom) frame; velocities in base_link (m, quaternion xyzw, m/s, rad/s)."""
+    """base_link's pose in the world (odom) frame and its twist in base_link.
+
+    Units: m, quaternion (x, y, z, w), m/s, rad/s.
+    """
 
     position: Tuple[float, float, float]
     orientation_xyzw: Tuple[float, float, float, float]
@@ -98,7 +101,8 @@ class World:
                  renderer: str = 'auto', gui: bool = False,
                  can_rgba: Sequence[float] = CAN_RGBA):
         if renderer not in RENDERERS:
-            raise ValueError('renderer must be one of %s, got %r' % (', '.join(RENDERERS), renderer))
+            raise ValueError('renderer must be one of %s, got %r'
+                             % (', '.join(RENDERERS), renderer))
         self.camera = camera
         self.dt_s = 1.0 / physics_rate_hz
         self._client = BulletClient(connection_mode=pybullet.GUI if gui else pybullet.DIRECT)

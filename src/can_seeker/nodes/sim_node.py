@@ -3,9 +3,9 @@
 Publishes /clock (every physics step), /camera/image_raw + /camera/camera_info (same stamp: the
 sim time the frame was rendered), /odom and TF odom->base_link (perfect odometry: the true pose
 and twist from pybullet), static TF base_link->camera_link->camera_optical_frame from the actual
-camera parameters, and ground truth /sim/can_pose and /sim/contact (whether the robot touched the can at any physics
-step since the previous message). Subscribes /cmd_vel.
-Services /sim/reset and /sim/place_can run on the simulation thread between physics steps.
+camera parameters, and ground truth /sim/can_pose and /sim/contact (whether the robot touched
+the can at any physics step since the previous message). Subscribes /cmd_vel. Services
+/sim/reset and /sim/place_can run on the simulation thread between physics steps.
 """
 import math
 import os
