@@ -93,6 +93,11 @@ def checked_config(params: SimpleNamespace, warn: Callable[[str], None]) -> Simp
         warn('parameter ~can_rgba: %s; using the default %r' % (error, DEFAULT_CAN_RGBA))
         config.can_rgba = DEFAULT_CAN_RGBA
         config.can_color = parse_rgba(DEFAULT_CAN_RGBA)
+    for name in ('camera_rate', 'state_rate'):
+        if getattr(config, name) > config.physics_rate:
+            warn('~%s %r is above ~physics_rate %r; using %r'
+                 % (name, getattr(config, name), config.physics_rate, config.physics_rate))
+            setattr(config, name, config.physics_rate)
     if config.can_max_distance < config.can_min_distance:
         warn('~can_max_distance %r is below ~can_min_distance %r; using %r for both'
              % (config.can_max_distance, config.can_min_distance, config.can_min_distance))

@@ -75,6 +75,8 @@ def test_checked_config_repairs_inconsistent_values():
     assert len(warnings) == 2
     config, warnings = config_with(can_placement='fixed', can_x=0.1, can_y=0.0)
     assert config.can_position == (1.0, 0.0) and len(warnings) == 1
+    config, warnings = config_with(physics_rate=100.0, camera_rate=200.0, state_rate=150.0)
+    assert (config.camera_rate, config.state_rate) == (100.0, 100.0) and len(warnings) == 2
 
 
 def test_camera_spec_from_parameters():
