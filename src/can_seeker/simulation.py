@@ -105,9 +105,11 @@ def checked_config(params: SimpleNamespace, warn: Callable[[str], None]) -> Simp
     if config.can_placement == 'fixed':
         config.can_position = (config.can_x, config.can_y)
         if math.hypot(*config.can_position) < MIN_CAN_CLEARANCE_M:
-            warn('(~can_x, ~can_y) = (%r, %r) overlaps the robot; placing the can at (1.0, 0.0)'
-                 % config.can_position)
-            config.can_position = (1.0, 0.0)
+            defaults = {spec.name: spec.default for spec in PARAMS}
+            fallback = (defaults['can_x'], defaults['can_y'])
+            warn('(~can_x, ~can_y) = %r overlaps the robot; placing the can at %r'
+                 % (config.can_position, fallback))
+            config.can_position = fallback
     else:
         config.can_position = random_can_position(config.seed, config.can_min_distance,
                                                   config.can_max_distance)
