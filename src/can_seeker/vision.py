@@ -185,21 +185,22 @@ class RedCanDetector:
 def largest_blob(mask: np.ndarray, min_area_px: float) -> Optional[Blob]:
     """The largest 8-connected region of a binary mask, or None if it is below ``min_area_px``.
 
-    The centroid comes from the region's own image moments, computed in its bounding box.
+    The region is picked by the area inside its outer contour (cheap on a cleaned mask); its
+    area and centroid come from the image moments of its own pixels, holes excluded.
     """
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
-                                                                ltype=cv2.CV_32S)
-    if count < 2:
+    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+    if not contours:
         return None
-    label = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
-    x, y, width, height, area = (int(value) for value in stats[label])
-    if area < min_area_px:
+    contour = max(contours, key=cv2.contourArea)
+    x, y, width, height = cv2.boundingRect(contour)
+    region = np.zeros((height, width), np.uint8)
+    cv2.drawContours(region, [contour], -1, 1, cv2.FILLED, offset=(-x, -y))
+    cv2.bitwise_and(region, mask[y:y + height, x:x + width], dst=region)
+    moments = cv2.moments(region, binaryImage=True)
+    centroid = centroid_from_moments(moments)
+    if centroid is None or moments['m00'] < min_area_px:
         return None
-    region = (labels[y:y + height, x:x + width] == label).view(np.uint8)
-    centroid = centroid_from_moments(cv2.moments(region, binaryImage=True))
-    if centroid is None:
-        return None
-    return Blob(x + centroid[0], y + centroid[1], float(area), x, y, width, height)
+    return Blob(x + centroid[0], y + centroid[1], float(moments['m00']), x, y, width, height)
 
 
 def blob_contour(mask: np.ndarray, blob: Blob):

@@ -232,3 +232,12 @@ def test_settings_fields_match_the_parameters():
     defaults = DetectorSettings.defaults()
     for spec in DETECTOR_PARAMS:
         assert spec.coerce(getattr(defaults, spec.name)) == spec.default
+
+
+def test_hole_in_the_blob_is_not_counted():
+    image = draw_disk(scene(), (160.0, 120.0), 40, (0, 0, 220))
+    draw_disk(image, (160.0, 120.0), 20, (128, 128, 128))
+    blob = detect(image).blob
+    assert blob.area == pytest.approx(np.pi * (40 ** 2 - 20 ** 2), rel=0.05)
+    assert (blob.centroid_x, blob.centroid_y) == (pytest.approx(160.0, abs=0.5),
+                                                  pytest.approx(120.0, abs=0.5))
