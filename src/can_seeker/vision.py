@@ -3,8 +3,9 @@
 Hue is in OpenCV units (0-179, degrees / 2). Red straddles hue 0, so the hue range wraps:
 ``hue_min > hue_max`` means hue >= hue_min OR hue <= hue_max (two ranges OR-ed), as in
 opencv_apps' hsv_color_filter. The defaults are chosen so that red objects from pure red to
-crimson (hue ~170-179) are found under varied lighting while orange (hue ~15), brown, skin,
-wood, pink-ish walls, magenta and grey are not.
+crimson (hue ~168-179 and 0-6) are found under varied lighting while red-orange and orange
+(hue 7 and up: orange overalls, reddish-brown fur, wood, skin in warm light), brown,
+pink-ish walls, magenta and grey are not; the saturation minimum rejects pale skin and pink.
 """
 from dataclasses import dataclass
 from typing import Optional
@@ -20,7 +21,7 @@ EDGE_METHODS = ('canny', 'sobel', 'laplacian')
 DETECTOR_PARAMS = (
     Param('hue_min', 168, 'lower hue bound of red (OpenCV hue units 0-179 = degrees/2); '
           'hue_min > hue_max wraps around 0', 0, 179),
-    Param('hue_max', 8, 'upper hue bound of red (OpenCV hue units 0-179 = degrees/2)', 0, 179),
+    Param('hue_max', 6, 'upper hue bound of red (OpenCV hue units 0-179 = degrees/2)', 0, 179),
     Param('saturation_min', 130, 'minimum HSV saturation of a red pixel (0-255)', 0, 255),
     Param('value_min', 50, 'minimum HSV value (brightness) of a red pixel (0-255)', 0, 255),
     Param('min_area_fraction', 0.0005, 'smallest blob accepted as the can, as a fraction of '

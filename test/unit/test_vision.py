@@ -71,6 +71,8 @@ def test_shades_of_red_are_found(name, bgr):
 
 @pytest.mark.parametrize('name, bgr', [
     ('orange, hue 15', hsv_colour(15, 255, 255)),
+    ('red-orange overalls, hue 9', (30, 90, 230)),
+    ('reddish-brown in shade, hue 8', (15, 40, 110)),
     ('magenta, hue 150', hsv_colour(150, 255, 255)),
     ('hot pink', (180, 105, 255)),
     ('saddle brown', (19, 69, 139)),
