@@ -1,7 +1,8 @@
 """bench_sim: real-time factor of the simulator, alone (no ROS) and as the ``sim`` node.
 
 The node runs with ``real_time_factor:=0`` under its own master while this process subscribes to
-/clock and /camera/image_raw (as a detector would), so publishing and transport count too.
+/camera/image_raw (as a detector would), so publishing and transport count too; sim time is read
+from the frames' stamps.
 """
 import argparse
 import os
@@ -13,7 +14,6 @@ import time
 
 import rosgraph
 import rospy
-from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image
 
 from can_seeker.nodes.closed_loop import free_port
@@ -25,28 +25,29 @@ WARM_UP_S = 2.0
 
 
 class NodeProbe:
-    """Pairs of (wall s, sim s) from /clock and a count of received frames."""
+    """(wall s, sim s) of the latest received frame and a count of received frames."""
 
     def __init__(self):
         self.lock = threading.Lock()
-        self.last_clock = None
-        self.frames = 0
-        rospy.Subscriber('/clock', Clock, self._on_clock, queue_size=1)
+        self.forget()
         rospy.Subscriber('/camera/image_raw', Image, self._on_image, queue_size=1,
                          buff_size=2 ** 24)
 
-    def _on_clock(self, message):
+    def _on_image(self, message):
         with self.lock:
-            self.last_clock = (time.monotonic(), message.clock.to_sec())
-
-    def _on_image(self, _message):
-        with self.lock:
+            self.last_frame = (time.monotonic(), message.header.stamp.to_sec())
             self.frames += 1
 
-    def sample(self):
-        """((wall s, sim s) of the latest /clock, frames received so far)."""
+    def forget(self):
+        """Drop what was received so far (before the next launch)."""
         with self.lock:
-            return self.last_clock, self.frames
+            self.last_frame = None
+            self.frames = 0
+
+    def sample(self):
+        """((wall s, sim s) of the latest frame, frames received so far)."""
+        with self.lock:
+            return self.last_frame, self.frames
 
 
 def measure_node(probe, renderer, width, height, camera_rate_hz, duration_s, log):
@@ -54,11 +55,12 @@ def measure_node(probe, renderer, width, height, camera_rate_hz, duration_s, log
     command = ['roslaunch', 'can_seeker', 'sim.launch', 'real_time_factor:=0',
                'renderer:=%s' % renderer, 'width:=%d' % width, 'height:=%d' % height,
                'camera_rate:=%g' % camera_rate_hz]
+    probe.forget()
     launch = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT,
                               start_new_session=True)
     try:
         deadline = time.monotonic() + STARTUP_TIMEOUT_S
-        while probe.sample()[0] is None or probe.sample()[0][0] < time.monotonic() - 0.5:
+        while probe.sample()[0] is None:
             if launch.poll() is not None or time.monotonic() > deadline:
                 raise RuntimeError('sim.launch did not start; see %s' % log.name)
             time.sleep(0.1)
