@@ -219,9 +219,12 @@ class Controller:
                 self.state = State.APPROACH
 
     def is_stale(self, now_s: float) -> bool:
-        """True when no detection message arrived within ``detection_timeout``."""
+        """True when the last detection message will be older than ``detection_timeout``
+        before the next control tick: a command is executed for one control period, so the
+        zero goes out no later than the timeout."""
         return (self.last_message_s is None
-                or now_s - self.last_message_s > self.config.detection_timeout)
+                or now_s + 1.0 / self.config.rate - self.last_message_s
+                > self.config.detection_timeout)
 
     def desired(self) -> Tuple[float, float]:
         """The (linear m/s, angular rad/s) the current state asks for, before limits."""

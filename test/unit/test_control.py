@@ -296,8 +296,9 @@ def test_stale_detection_gives_immediate_zero_in_any_state():
     controller = make_controller()
     command, now = run(controller, ahead(1.5), 0.0, 3.0)
     assert command[0] > 0.3
-    assert controller.command(now + 0.4)[0] > 0.0
-    assert controller.command(now + 0.55) == (0.0, 0.0)
+    last_message = now - DT
+    assert controller.command(last_message + 0.44)[0] > 0.0
+    assert controller.command(last_message + 0.46) == (0.0, 0.0)
     assert controller.state is State.APPROACH
 
 
