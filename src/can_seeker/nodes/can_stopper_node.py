@@ -38,6 +38,7 @@ class CanStopperNode:
         self.params = read_params(PARAMS, rospy.get_param, rospy.logwarn)
         self.controller = Controller(self.params)
         self.lock = threading.Lock()
+        self.shutting_down = False
         self.camera_poses = {}
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
@@ -83,14 +84,16 @@ class CanStopperNode:
             self.controller.observe(sighting, rospy.get_time(), detection.header.stamp.to_sec())
 
     def on_timer(self, _event):
+        """One control tick; publishes under the lock so no tick can follow the shutdown zeros."""
         now = rospy.get_time()
         with self.lock:
+            if self.shutting_down:
+                return
             stale = self.controller.is_stale(now) and self.controller.last_message_s is not None
-            linear, angular = self.controller.command(now)
+            self.cmd_pub.publish(twist(*self.controller.command(now)))
         if stale:
             rospy.logwarn_throttle(5.0, 'can_stopper: no detection for over %.2f s: zero Twist'
                                    % self.params.detection_timeout)
-        self.cmd_pub.publish(twist(linear, angular))
         self.publish_state()
 
     def publish_state(self, force=False):
@@ -108,7 +111,9 @@ class CanStopperNode:
         return EmptyResponse()
 
     def on_shutdown(self):
-        """Stop the timer and send zero a few times (wall-clock spacing: sim time may be gone)."""
+        """Stop the ticks and send zero a few times (wall-clock spacing: sim time may be gone)."""
+        with self.lock:
+            self.shutting_down = True
         self.timer.shutdown()
         for _ in range(SHUTDOWN_ZERO_COUNT):
             self.cmd_pub.publish(twist(0.0, 0.0))
