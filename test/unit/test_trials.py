@@ -4,7 +4,7 @@ import math
 import pytest
 
 from can_seeker.trials import Criteria, judge, path_length, summarise, summary_table, \
-    true_gap_and_bearing
+    true_gap_and_bearing, yaw_from_quaternion
 
 CRITERIA = Criteria()
 TARGET_CENTRE_M = 0.25 + 0.165 + 0.033
@@ -22,6 +22,13 @@ def test_true_bearing_is_relative_to_heading_and_wrapped():
     assert -math.pi <= bearing <= math.pi
     _, left = true_gap_and_bearing((0.0, 0.0), 0.0, (1.0, 0.2), CRITERIA)
     assert left > 0.0
+
+
+@pytest.mark.parametrize('yaw_deg', [0.0, 45.0, 179.0, -120.0])
+def test_yaw_from_quaternion_about_z(yaw_deg):
+    half = math.radians(yaw_deg) / 2.0
+    assert yaw_from_quaternion(0.0, 0.0, math.sin(half), math.cos(half)) == \
+        pytest.approx(math.radians(yaw_deg))
 
 
 def test_path_length():

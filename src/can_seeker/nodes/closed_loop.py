@@ -4,7 +4,6 @@ run trials through the sim and controller services.
 Shared by ``scripts/evaluate``, ``scripts/demo`` and the closed-loop rostests. Ground truth comes
 from the simulator: ``/odom`` (true base pose), ``/sim/can_pose``, ``/sim/contact``.
 """
-import math
 import os
 import signal
 import socket
@@ -14,13 +13,13 @@ import time
 
 import rosgraph
 import rospy
-from nav_msgs.msg import Odometry
 from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty
 
 from can_seeker.srv import PlaceCan
-from can_seeker.trials import judge, path_length
+from can_seeker.trials import judge, path_length, yaw_from_quaternion
 
 STATE_TOPIC = '/can_stopper/state'
 SERVICES = ('/sim/reset', '/sim/place_can', '/can_stopper/reset')
@@ -34,12 +33,6 @@ def free_port() -> int:
     with socket.socket() as probe:
         probe.bind(('127.0.0.1', 0))
         return probe.getsockname()[1]
-
-
-def yaw_of(orientation) -> float:
-    """Heading (rad) of a geometry_msgs/Quaternion."""
-    return math.atan2(2.0 * (orientation.w * orientation.z + orientation.x * orientation.y),
-                      1.0 - 2.0 * (orientation.y * orientation.y + orientation.z * orientation.z))
 
 
 class LaunchedSystem:
@@ -136,7 +129,9 @@ class TruthMonitor:
             return
         position = message.pose.pose.position
         with self.lock:
-            self.pose = (position.x, position.y, yaw_of(message.pose.pose.orientation))
+            orientation = message.pose.pose.orientation
+            self.pose = (position.x, position.y, yaw_from_quaternion(
+                orientation.x, orientation.y, orientation.z, orientation.w))
             self.path.append((position.x, position.y))
 
     def _on_can_pose(self, message):
