@@ -18,7 +18,8 @@ import tf2_ros
 from tqdm import tqdm
 
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
-from can_seeker.image_converter import PARAMS, can_report, fallback_pose
+from can_seeker import image_converter
+from can_seeker.image_converter import can_report, fallback_pose
 from can_seeker.image_decode import ImageDecodeError, NoColourError, decode_image_msg
 from can_seeker.params import read_params
 from can_seeker.vision import DetectorSettings, RedCanDetector, draw_annotation
@@ -46,10 +47,10 @@ def read_overrides(pairs):
     for pair in pairs:
         name, _, value = pair.partition('=')
         overrides['~' + name.strip()] = value.strip()
-    known = {'~' + spec.name for spec in PARAMS}
+    known = {'~' + spec.name for spec in image_converter.PARAMS}
     for name in sorted(set(overrides) - known):
         print('bag_detect: unknown parameter %s ignored' % name[1:], file=sys.stderr)
-    return read_params(PARAMS, lambda name, default: overrides.get(name, default),
+    return read_params(image_converter.PARAMS, lambda name, default: overrides.get(name, default),
                        lambda text: print('bag_detect: ' + text, file=sys.stderr))
 
 

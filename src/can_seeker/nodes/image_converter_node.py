@@ -122,7 +122,7 @@ class ImageConverterNode:
             intrinsics = None
         try:
             transform = self.tf_buffer.lookup_transform(
-                self.config.base_frame, msg.header.frame_id, rospy.Time(0)).transform
+                self.config.base_frame, msg.header.frame_id.lstrip('/'), rospy.Time(0)).transform
             pose = camera_pose_from_transform(
                 (transform.translation.x, transform.translation.y, transform.translation.z),
                 (transform.rotation.x, transform.rotation.y, transform.rotation.z,
