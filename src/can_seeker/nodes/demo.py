@@ -86,7 +86,15 @@ class VideoRecorder:
 
 
 def main():
-    args = parse_args(rospy.myargv()[1:])
+    try:
+        run(parse_args(rospy.myargv()[1:]))
+    except KeyboardInterrupt:
+        print('demo: interrupted', file=sys.stderr)
+        sys.exit(130)
+
+
+def run(args):
+    """The demo run; exits 1 when the robot did not stop in tolerance."""
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(2 ** 31)
     print('demo: seed %d (repeat with --seed %d, or make demo SEED=%d)' % (seed, seed, seed))
     os.makedirs(args.output, exist_ok=True)

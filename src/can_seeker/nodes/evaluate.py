@@ -62,7 +62,20 @@ def settings(args):
         'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor')}
 
 
+def run_trial(runner, args, index):
+    """Trial ``index`` with the can placed from seed + index; failures are reported at once."""
+    can_xy = random_can_position(args.seed + index, args.min_distance, args.max_distance)
+    result = runner.run(index, can_xy)
+    if not result.success:
+        tqdm.write('trial %d (seed %d) failed: can at (%.2f, %.2f), stopped=%s, gap %.3f m, '
+                   'bearing %.2f deg, contact=%s'
+                   % (index, args.seed + index, result.can_x_m, result.can_y_m, result.stopped,
+                      result.gap_m, result.bearing_deg, result.contact), file=sys.stderr)
+    return result
+
+
 def run(args):
+    """Start the nodes, run the trials (Ctrl-C ends early); the results and the criteria."""
     log_path = args.log or os.path.join(tempfile.gettempdir(),
                                         'can_seeker_evaluate_%d.log' % os.getpid())
     results = []
@@ -73,28 +86,27 @@ def run(args):
                             time_limit_s=args.time_limit)
         runner = TrialRunner(criteria)
         bar = tqdm(range(args.trials), desc='trials', unit='trial', file=sys.stderr)
-        for index in bar:
-            can_xy = random_can_position(args.seed + index, args.min_distance,
-                                         args.max_distance)
-            result = runner.run(index, can_xy)
-            results.append(result)
-            bar.set_postfix(ok='%d/%d' % (sum(r.success for r in results), len(results)))
-            if not result.success:
-                tqdm.write('trial %d (seed %d) failed: can at (%.2f, %.2f), stopped=%s, '
-                           'gap %.3f m, bearing %.2f deg, contact=%s'
-                           % (index, args.seed + index, result.can_x_m, result.can_y_m,
-                              result.stopped, result.gap_m, result.bearing_deg, result.contact),
-                           file=sys.stderr)
+        try:
+            for index in bar:
+                results.append(run_trial(runner, args, index))
+                bar.set_postfix(ok='%d/%d' % (sum(r.success for r in results), len(results)))
+        except KeyboardInterrupt:
+            tqdm.write('evaluate: interrupted; summarising the %d finished trials' % len(results),
+                       file=sys.stderr)
         rospy.signal_shutdown('evaluation done')
     return results, criteria
 
 
 def main():
     args = parse_args(rospy.myargv()[1:])
-    results, criteria = run(args)
+    try:
+        results, criteria = run(args)
+    except KeyboardInterrupt:
+        print('evaluate: interrupted while starting the nodes', file=sys.stderr)
+        sys.exit(130)
     summary = summarise(results, criteria)
     print('\nevaluate: %d trials, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, can %s'
-          % (args.trials, args.min_distance, args.max_distance, args.width, args.height,
+          % (len(results), args.min_distance, args.max_distance, args.width, args.height,
              args.camera_height, args.camera_pitch, args.can_rgba))
     print(summary_table(summary))
     if args.json:
@@ -102,4 +114,4 @@ def main():
             json.dump({'settings': settings(args), 'summary': summary,
                        'trials': [result.as_dict() for result in results]}, output, indent=2)
         print('results written to %s' % args.json)
-    sys.exit(0 if summary['successes'] == summary['trials'] else 1)
+    sys.exit(0 if results and summary['successes'] == summary['trials'] else 1)
