@@ -33,13 +33,14 @@ PARAMS = (
     Param('stop_distance', 0.25,
           'gap between the robot front and the can near surface when stopped (m)', 0.02, 3.0),
     Param('distance_tolerance', 0.01,
-          'STOPPED once |gap - stop_distance| is within this and the robot is at rest; '
+          'STOPPED once the gap is within this of stop_distance and the robot is at rest; '
           'the approach aims at the middle half of the band (m)', 0.001, 0.5),
     Param('bearing_tolerance_deg', 1.5,
           'STOPPED only with the can within this bearing of straight ahead; turning aims at '
           'half of it (deg)', 0.1, 30.0),
     Param('reapproach_distance', 0.05,
-          'STOPPED drives again when |gap - stop_distance| exceeds this (m)', 0.002, 1.0),
+          'STOPPED drives again when the gap differs from stop_distance by more than this (m)',
+          0.002, 1.0),
     Param('reapproach_bearing_deg', 6.0,
           'STOPPED turns again when the can bearing exceeds this (deg)', 0.2, 90.0),
     Param('max_linear', 0.4, 'forward speed limit (m/s)', 0.01, 2.0),
@@ -57,8 +58,8 @@ PARAMS = (
     Param('linear_gain', 1.5, 'approach speed per metre of gap error (1/s)', 0.05, 10.0),
     Param('angular_gain', 2.0, 'turn rate per radian of bearing error (1/s)', 0.05, 20.0),
     Param('turn_in_place_deg', 25.0,
-          'APPROACH drives forward only while |bearing| is below this, at full speed when it '
-          'is zero (deg)', 1.0, 90.0),
+          'APPROACH drives forward only while the bearing is within this, at full speed when '
+          'it is zero (deg)', 1.0, 90.0),
     Param('search_angular', 0.8, 'turn rate in SEARCH and LOST (rad/s)', 0.05, 3.0),
     Param('lost_timeout', 5.0, 'LOST becomes SEARCH after this long without the can (s)',
           0.0, 120.0),
