@@ -100,7 +100,8 @@ class CameraPose:
 
 def camera_pose_from_mount(mount: CameraMount) -> CameraPose:
     """Pose of camera_optical_frame in base_link (on the floor) for a camera mount."""
-    rotation = quaternion_matrix(*mount.rotation_xyzw) @ quaternion_matrix(*OPTICAL_IN_CAMERA_LINK_XYZW)
+    optical_in_link = quaternion_matrix(*OPTICAL_IN_CAMERA_LINK_XYZW)
+    rotation = quaternion_matrix(*mount.rotation_xyzw) @ optical_in_link
     return CameraPose(tuple(float(value) for value in mount.translation_m), rotation)
 
 

@@ -72,7 +72,8 @@ class GroundTruth:
 
     def project(self, point_base):
         """Pixel (u, v) of a base_link point, or None behind the camera."""
-        optical = self.camera.rotation.T @ (np.asarray(point_base) - np.asarray(self.camera.position))
+        offset = np.asarray(point_base) - np.asarray(self.camera.position)
+        optical = self.camera.rotation.T @ offset
         if optical[2] <= 0.0:
             return None
         return (self.intrinsics.fx * optical[0] / optical[2] + self.intrinsics.cx,

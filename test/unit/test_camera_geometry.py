@@ -34,7 +34,8 @@ def can_mask(centre_xy, intrinsics, height_m=CAMERA_HEIGHT_M, pitch_rad=PITCH_RA
     angles = np.linspace(0, 2 * np.pi, 720, endpoint=False)
     ring = np.stack((centre_xy[0] + CAN_RADIUS_M * np.cos(angles),
                      centre_xy[1] + CAN_RADIUS_M * np.sin(angles)), axis=1)
-    points = np.vstack([np.column_stack((ring, np.full(len(ring), z))) for z in (0.0, CAN_HEIGHT_M)])
+    points = np.vstack([np.column_stack((ring, np.full(len(ring), z)))
+                        for z in (0.0, CAN_HEIGHT_M)])
     hull = cv2.convexHull(project(points, height_m, pitch_rad, intrinsics).astype(np.float32))
     columns, rows = np.meshgrid(np.arange(intrinsics.width), np.arange(intrinsics.height))
     polygon = hull.reshape(-1, 2).astype(np.float64)
@@ -65,7 +66,8 @@ def camera():
 def test_floor_range_is_millimetre_accurate_near(camera, centre_xy):
     pose, intrinsics = camera
     centroid, bbox = blob_of(can_mask(centre_xy, intrinsics))
-    distance, bearing, method = can_range_bearing(pose, intrinsics, centroid, bbox, 2 * CAN_RADIUS_M)
+    distance, bearing, method = can_range_bearing(pose, intrinsics, centroid, bbox,
+                                                  2 * CAN_RADIUS_M)
     assert method == 'floor'
     assert distance == pytest.approx(true_range(centre_xy), abs=0.003)
     assert bearing == pytest.approx(math.atan2(centre_xy[1], centre_xy[0]), abs=0.02)
@@ -75,7 +77,8 @@ def test_floor_range_is_millimetre_accurate_near(camera, centre_xy):
 def test_floor_range_is_within_two_percent_far(camera, centre_xy):
     pose, intrinsics = camera
     centroid, bbox = blob_of(can_mask(centre_xy, intrinsics))
-    distance, bearing, method = can_range_bearing(pose, intrinsics, centroid, bbox, 2 * CAN_RADIUS_M)
+    distance, bearing, method = can_range_bearing(pose, intrinsics, centroid, bbox,
+                                                  2 * CAN_RADIUS_M)
     assert method == 'floor'
     assert distance == pytest.approx(true_range(centre_xy), rel=0.02)
     assert bearing == pytest.approx(math.atan2(centre_xy[1], centre_xy[0]), abs=0.01)
@@ -144,7 +147,8 @@ def test_bearing_is_left_positive(camera):
 def test_pixel_ray_through_principal_point_is_the_optical_axis():
     intrinsics = intrinsics_from_vertical_fov(320, 240, 45.0)
     assert pixel_ray(intrinsics, intrinsics.cx, intrinsics.cy) == pytest.approx([0.0, 0.0, 1.0])
-    assert pixel_ray(intrinsics, intrinsics.cx + intrinsics.fx, intrinsics.cy)[0] == pytest.approx(1.0)
+    one_focal_right = pixel_ray(intrinsics, intrinsics.cx + intrinsics.fx, intrinsics.cy)
+    assert one_focal_right[0] == pytest.approx(1.0)
 
 
 def test_standard_optical_quaternion_is_the_optical_rotation():

@@ -16,8 +16,8 @@ def bgr():
 def fields(array, encoding):
     height, width = array.shape[:2]
     channels = array.shape[2] if array.ndim == 3 else 1
-    return dict(encoding=encoding, height=height, width=width, step=width * channels * array.itemsize,
-                data=array.tobytes())
+    return dict(encoding=encoding, height=height, width=width,
+                step=width * channels * array.itemsize, data=array.tobytes())
 
 
 def test_bgr8_is_read_as_is(bgr):

@@ -85,7 +85,8 @@ class BagDetector:
             return self.fallback_pose
         return camera_pose_from_transform(
             (transform.translation.x, transform.translation.y, transform.translation.z),
-            (transform.rotation.x, transform.rotation.y, transform.rotation.z, transform.rotation.w))
+            (transform.rotation.x, transform.rotation.y, transform.rotation.z,
+             transform.rotation.w))
 
     def on_image(self, msg, fps):
         """CanReport of one image message, or None when the frame cannot be read."""
@@ -99,7 +100,8 @@ class BagDetector:
             return None
         result = self.detector.detect(bgr)
         intrinsics = self.intrinsics
-        if intrinsics is not None and (intrinsics.width, intrinsics.height) != (msg.width, msg.height):
+        image_size = (msg.width, msg.height)
+        if intrinsics is not None and (intrinsics.width, intrinsics.height) != image_size:
             intrinsics = None
         report = can_report(result.blob, msg.width, msg.height, self.camera_pose(msg),
                             intrinsics, self.config.can_diameter)

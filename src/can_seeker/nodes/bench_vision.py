@@ -44,8 +44,8 @@ def floor_scene(width, height, seed=0):
     cv2.rectangle(image, (can_x, can_y), (can_x + can_w, can_y + can_h), (30, 25, 190), -1)
     cv2.ellipse(image, (can_x + can_w // 2, can_y + can_h), (can_w // 2, max(2, can_w // 5)),
                 0, 0, 180, (30, 25, 190), -1)
-    cv2.rectangle(image, (width // 8, height // 2), (width // 8 + width // 10, height // 2 + height // 10),
-                  (40, 120, 200), -1)
+    left, top = width // 8, height // 2
+    cv2.rectangle(image, (left, top), (left + width // 10, top + height // 10), (40, 120, 200), -1)
     return image
 
 

@@ -107,7 +107,8 @@ class ImageConverterNode:
         try:
             self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
         except ValueError as error:
-            rospy.logerr_throttle(ERROR_PERIOD_S, 'image_converter: ignoring camera_info: %s' % error)
+            rospy.logerr_throttle(ERROR_PERIOD_S,
+                                  'image_converter: ignoring camera_info: %s' % error)
 
     def camera_geometry(self, msg):
         """(pose, intrinsics) for this image; either is None when unknown."""
