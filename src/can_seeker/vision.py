@@ -114,13 +114,14 @@ class RedCanDetector:
 
     @property
     def settings(self) -> DetectorSettings:
-        return self._settings
+        return self._config[0]
 
     @settings.setter
     def settings(self, settings: DetectorSettings):
-        """Replace all thresholds at once (safe while another thread calls detect)."""
-        self._settings = settings
-        self._kernels = (_kernel(settings.open_kernel_px), _kernel(settings.close_kernel_px))
+        """Replace all thresholds at once: a frame in progress in another thread keeps the
+        settings and kernels it started with."""
+        self._config = (settings, _kernel(settings.open_kernel_px),
+                        _kernel(settings.close_kernel_px))
 
     def _buffers(self, shape):
         if shape != self._shape:
@@ -147,9 +148,9 @@ class RedCanDetector:
                         dst=self._mask)
         return self._mask
 
-    def clean_mask(self, mask: np.ndarray) -> np.ndarray:
-        """Opening removes speckles, closing fills highlights and holes inside the blob."""
-        open_kernel, close_kernel = self._kernels
+    def clean_mask(self, mask: np.ndarray, open_kernel, close_kernel) -> np.ndarray:
+        """Opening removes speckles, closing fills highlights and holes inside the blob
+        (a kernel of None skips that step)."""
         cleaned = mask
         if open_kernel is not None:
             cleaned = cv2.morphologyEx(cleaned, cv2.MORPH_OPEN, open_kernel, dst=self._clean_mask)
@@ -172,11 +173,11 @@ class RedCanDetector:
 
     def detect(self, bgr: np.ndarray, want_edges: bool = False) -> VisionResult:
         """Largest red blob of a BGR uint8 image (None when there is none big enough)."""
-        settings = self._settings
+        settings, open_kernel, close_kernel = self._config
         if bgr.size == 0:
             empty = np.zeros(bgr.shape[:2], np.uint8)
             return VisionResult(None, empty, empty.copy() if want_edges else None)
-        mask = self.clean_mask(self.red_mask(bgr, settings))
+        mask = self.clean_mask(self.red_mask(bgr, settings), open_kernel, close_kernel)
         min_area_px = max(1.0, settings.min_area_fraction * mask.shape[0] * mask.shape[1])
         blob = largest_blob(mask, min_area_px)
         edges = self.edges(bgr, settings) if want_edges else None
