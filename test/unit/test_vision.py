@@ -243,3 +243,13 @@ def test_hole_in_the_blob_is_not_counted():
     assert blob.area == pytest.approx(np.pi * (40 ** 2 - 20 ** 2), rel=0.05)
     assert (blob.centroid_x, blob.centroid_y) == (pytest.approx(160.0, abs=0.5),
                                                   pytest.approx(120.0, abs=0.5))
+
+
+def test_red_can_through_jpeg_compression_is_found_on_it():
+    image = scene((70, 100, 120))
+    cv2.rectangle(image, (180, 60), (215, 150), (40, 35, 185), -1)
+    image[60:150, 195:199] = (200, 200, 235)
+    _, encoded = cv2.imencode('.jpg', add_noise(image, 4), [cv2.IMWRITE_JPEG_QUALITY, 40])
+    blob = detect(cv2.imdecode(encoded, cv2.IMREAD_COLOR)).blob
+    assert blob is not None
+    assert abs(blob.centroid_x - 197.5) < 3.0 and abs(blob.centroid_y - 105.0) < 3.0
