@@ -18,14 +18,14 @@ test: setup
 	@bash tools/run_tests.sh
 
 demo: setup
-	@tools/with_env.sh rosrun can_seeker demo $(if $(SEED),--seed $(SEED))
+	@bash tools/with_env.sh rosrun can_seeker demo $(if $(SEED),--seed $(SEED))
 
 shell: setup
 	@bash tools/shell.sh
 
 bench: setup
-	@tools/with_env.sh rosrun can_seeker bench_vision
-	@tools/with_env.sh rosrun can_seeker bench_sim
+	@bash tools/with_env.sh rosrun can_seeker bench_vision
+	@bash tools/with_env.sh rosrun can_seeker bench_sim
 
 clean:
 	@. tools/paths.sh && echo "removing $$CAN_SEEKER_HOME" && rm -rf "$$CAN_SEEKER_HOME"

@@ -61,6 +61,11 @@ def pixel_ray(intrinsics: CameraIntrinsics, u: float, v: float) -> np.ndarray:
     return np.array(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy, 1.0))
 
 
+def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
+    """Heading about z (rad) of an orientation quaternion."""
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
 def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
     """3x3 rotation matrix of a unit quaternion (normalised here)."""
     norm = math.sqrt(x * x + y * y + z * z + w * w)

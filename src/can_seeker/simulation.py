@@ -50,9 +50,9 @@ PARAMS = (
     Param('can_x', 1.0, 'can centre x in odom when ~can_placement is fixed (m)', -100.0, 100.0),
     Param('can_y', 0.0, 'can centre y in odom when ~can_placement is fixed (m)', -100.0, 100.0),
     Param('seed', 0, 'random seed of the can placement', 0, 2 ** 31 - 1),
-    Param('can_min_distance', 0.8, 'nearest random can centre from the robot start (m)',
+    Param('can_min_distance', 0.5, 'nearest random can centre from the robot start (m)',
           0.3, 50.0),
-    Param('can_max_distance', 2.0, 'farthest random can centre from the robot start (m)',
+    Param('can_max_distance', 3.0, 'farthest random can centre from the robot start (m)',
           0.3, 50.0),
     Param('can_rgba', DEFAULT_CAN_RGBA, 'can colour: red green blue alpha, four numbers in 0-1'),
 )

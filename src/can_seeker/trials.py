@@ -23,11 +23,6 @@ class Criteria:
     can_radius_m: float = 0.033
 
 
-def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
-    """Heading about z (rad) of an orientation quaternion."""
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
 def true_gap_and_bearing(base_xy: Sequence[float], base_yaw_rad: float,
                          can_xy: Sequence[float], criteria: Criteria) -> Tuple[float, float]:
     """(gap m, bearing rad): robot front to can surface, and the can centre's direction from the

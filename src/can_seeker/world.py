@@ -7,7 +7,6 @@ the robot starts at its origin facing +x. Use one World from one thread: pybulle
 thread-safe.
 """
 import importlib.util
-import math
 import os
 from dataclasses import dataclass
 from typing import Sequence, Tuple
@@ -18,7 +17,8 @@ import pybullet_data
 import rospkg
 from pybullet_utils.bullet_client import BulletClient
 
-from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_matrix
+from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_matrix, \
+    yaw_from_quaternion
 from can_seeker.camera_mount import CameraMount
 from can_seeker.drive import wheel_speeds
 
@@ -77,8 +77,7 @@ class RobotState:
     @property
     def yaw_rad(self) -> float:
         """Heading about z (rad)."""
-        x, y, z, w = self.orientation_xyzw
-        return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+        return yaw_from_quaternion(*self.orientation_xyzw)
 
 
 def rgba_to_image(rgba: np.ndarray, encoding: str) -> np.ndarray:

@@ -63,7 +63,7 @@ def test_checked_config_places_the_can():
     config, warnings = config_with(can_placement='fixed', can_x=1.5, can_y=-0.5)
     assert config.can_position == (1.5, -0.5) and not warnings
     config, warnings = config_with(seed=4)
-    assert config.can_position == random_can_position(4, 0.8, 2.0) and not warnings
+    assert config.can_position == random_can_position(4, 0.5, 3.0) and not warnings
     assert config.can_color == (0.8, 0.05, 0.05, 1.0)
 
 

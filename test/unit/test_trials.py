@@ -3,8 +3,9 @@ import math
 
 import pytest
 
+from can_seeker.camera_geometry import yaw_from_quaternion
 from can_seeker.trials import Criteria, judge, path_length, summarise, summary_table, \
-    true_gap_and_bearing, yaw_from_quaternion
+    true_gap_and_bearing
 
 CRITERIA = Criteria()
 TARGET_CENTRE_M = 0.25 + 0.165 + 0.033

@@ -19,7 +19,8 @@ from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty
 
 from can_seeker.srv import PlaceCan
-from can_seeker.trials import judge, path_length, yaw_from_quaternion
+from can_seeker.camera_geometry import yaw_from_quaternion
+from can_seeker.trials import judge, path_length
 
 STATE_TOPIC = '/can_stopper/state'
 SERVICES = ('/sim/reset', '/sim/place_can', '/can_stopper/reset')
