@@ -103,14 +103,16 @@ class TruthMonitor:
     """Subscribes to the ground truth and the controller state; keeps what one trial needs.
 
     Messages stamped before :meth:`start` (still in flight from before a reset) are ignored.
+    The truth topics are queued without limit: on a busy machine a bounded queue would drop
+    the older part of the path.
     """
 
     def __init__(self):
         self.lock = threading.Lock()
         self.start(0.0)
-        rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=50)
-        rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=50)
-        rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=50)
+        rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=None)
+        rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None)
+        rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=None)
         rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10)
 
     def start(self, now_s):
