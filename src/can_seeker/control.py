@@ -23,8 +23,9 @@ base_link.
 import enum
 import math
 from dataclasses import dataclass
-from typing import Optional, Sequence, Tuple
+from typing import Optional, Tuple
 
+from can_seeker.camera_geometry import CameraPose
 from can_seeker.params import Param
 from can_seeker.twist_limits import TwistLimits, limit_twist
 
@@ -83,8 +84,8 @@ class State(enum.Enum):
 
 
 @dataclass(frozen=True)
-class CameraPose:
-    """Camera position (m) and heading (rad) on the floor plane of base_link."""
+class CameraFloorPose:
+    """Camera position (m) and viewing heading (rad) on the floor plane of base_link."""
 
     x: float
     y: float
@@ -108,17 +109,9 @@ class Sighting:
         return math.isfinite(self.gap_m)
 
 
-def camera_pose_from_transform(translation: Sequence[float],
-                               quaternion: Sequence[float]) -> CameraPose:
-    """The floor-plane pose of an optical frame given as a base_link -> optical transform.
-
-    ``quaternion`` is (x, y, z, w). The heading is the optical (z, viewing) axis projected on
-    the floor.
-    """
-    qx, qy, qz, qw = quaternion
-    z_axis = (2.0 * (qx * qz + qy * qw), 2.0 * (qy * qz - qx * qw))
-    return CameraPose(float(translation[0]), float(translation[1]),
-                      math.atan2(z_axis[1], z_axis[0]))
+def camera_floor_pose(pose: CameraPose) -> CameraFloorPose:
+    """The floor-plane part of a camera pose in base_link: where it stands and where it looks."""
+    return CameraFloorPose(float(pose.position[0]), float(pose.position[1]), pose.heading_rad)
 
 
 def detection_problem(found: bool, range_m: float, bearing_rad: float) -> Optional[str]:
@@ -136,7 +129,7 @@ def detection_problem(found: bool, range_m: float, bearing_rad: float) -> Option
     return None
 
 
-def sighting_from_detection(found: bool, range_m: float, bearing_rad: float, camera: CameraPose,
+def sighting_from_detection(found: bool, range_m: float, bearing_rad: float, camera: CameraFloorPose,
                             robot_radius: float, can_radius: float) -> Optional[Sighting]:
     """The can relative to base_link from one detection, or None when it shows no can.
 

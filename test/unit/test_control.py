@@ -4,8 +4,9 @@ from types import SimpleNamespace
 
 import pytest
 
-from can_seeker.control import (PARAMS, CameraPose, Controller, Sighting, State,
-                                camera_pose_from_transform, dead_band, detection_problem,
+from can_seeker.camera_geometry import camera_pose_from_transform
+from can_seeker.control import (PARAMS, CameraFloorPose, Controller, Sighting, State,
+                                camera_floor_pose, dead_band, detection_problem,
                                 sighting_from_detection)
 
 DEFAULTS = {spec.name: spec.default for spec in PARAMS}
@@ -35,14 +36,14 @@ def run(controller, sighting, start_s, duration_s):
 # Geometry ------------------------------------------------------------------------------------
 
 def test_sighting_straight_ahead_gap_is_range_minus_camera_setback():
-    camera = CameraPose(0.12, 0.0, 0.0)
+    camera = CameraFloorPose(0.12, 0.0, 0.0)
     sighting = sighting_from_detection(True, 0.5, 0.0, camera, 0.165, 0.033)
     assert sighting.gap_m == pytest.approx(0.5 + 0.12 - 0.165)
     assert sighting.bearing_rad == pytest.approx(0.0)
 
 
 def test_sighting_off_axis_uses_can_centre_seen_from_base_link():
-    camera = CameraPose(0.12, 0.0, 0.0)
+    camera = CameraFloorPose(0.12, 0.0, 0.0)
     bearing = math.radians(20.0)
     sighting = sighting_from_detection(True, 1.0, bearing, camera, 0.165, 0.033)
     centre = (0.12 + 1.033 * math.cos(bearing), 1.033 * math.sin(bearing))
@@ -52,7 +53,7 @@ def test_sighting_off_axis_uses_can_centre_seen_from_base_link():
 
 
 def test_sighting_without_range_keeps_the_side():
-    sighting = sighting_from_detection(True, math.nan, -0.3, CameraPose(0.12, 0.0, 0.0),
+    sighting = sighting_from_detection(True, math.nan, -0.3, CameraFloorPose(0.12, 0.0, 0.0),
                                        0.165, 0.033)
     assert not sighting.has_range
     assert sighting.bearing_rad == pytest.approx(-0.3)
@@ -61,7 +62,7 @@ def test_sighting_without_range_keeps_the_side():
 @pytest.mark.parametrize('found, range_m, bearing', [
     (False, 1.0, 0.0), (True, 1.0, math.nan), (True, -0.2, 0.0), (True, math.inf, 0.0)])
 def test_no_sighting_from_empty_or_malformed_detection(found, range_m, bearing):
-    assert sighting_from_detection(found, range_m, bearing, CameraPose(0.12, 0.0, 0.0),
+    assert sighting_from_detection(found, range_m, bearing, CameraFloorPose(0.12, 0.0, 0.0),
                                    0.165, 0.033) is None
 
 
@@ -88,14 +89,14 @@ def test_camera_pose_from_optical_frame_pitched_down():
     quaternion = quaternion_from_axes((0.0, -1.0, 0.0),
                                       (-math.sin(pitch), 0.0, -math.cos(pitch)),
                                       (math.cos(pitch), 0.0, -math.sin(pitch)))
-    pose = camera_pose_from_transform((0.12, 0.0, 0.25), quaternion)
+    pose = camera_floor_pose(camera_pose_from_transform((0.12, 0.0, 0.25), quaternion))
     assert (pose.x, pose.y) == (0.12, 0.0)
     assert pose.yaw == pytest.approx(0.0, abs=1e-9)
 
 
 def test_camera_pose_from_optical_frame_looking_left():
     quaternion = quaternion_from_axes((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
-    pose = camera_pose_from_transform((0.1, 0.05, 0.3), quaternion)
+    pose = camera_floor_pose(camera_pose_from_transform((0.1, 0.05, 0.3), quaternion))
     assert (pose.x, pose.y) == (0.1, 0.05)
     assert pose.yaw == pytest.approx(math.pi / 2.0)
 

@@ -13,7 +13,8 @@ from geometry_msgs.msg import Twist
 from std_msgs.msg import String
 from std_srvs.srv import Empty, EmptyResponse
 
-from can_seeker.control import (PARAMS, CameraPose, Controller, camera_pose_from_transform,
+from can_seeker.camera_geometry import camera_pose_from_transform
+from can_seeker.control import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
                                 detection_problem, sighting_from_detection)
 from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
@@ -62,10 +63,11 @@ class CanStopperNode:
                 tf2_ros.ExtrapolationException, tf2_ros.InvalidArgumentException) as error:
             rospy.logwarn_throttle(5.0, 'can_stopper: no TF %s -> %r yet (%s); using camera_x '
                                    '%.3f m' % (BASE_FRAME, frame_id, error, self.params.camera_x))
-            return CameraPose(self.params.camera_x, 0.0, 0.0)
+            return CameraFloorPose(self.params.camera_x, 0.0, 0.0)
         translation, rotation = transform.transform.translation, transform.transform.rotation
-        pose = camera_pose_from_transform((translation.x, translation.y, translation.z),
-                                          (rotation.x, rotation.y, rotation.z, rotation.w))
+        pose = camera_floor_pose(camera_pose_from_transform(
+            (translation.x, translation.y, translation.z),
+            (rotation.x, rotation.y, rotation.z, rotation.w)))
         rospy.loginfo('can_stopper: camera %r at x=%.3f y=%.3f m, yaw %.4f rad in %s'
                       % (frame_id, pose.x, pose.y, pose.yaw, BASE_FRAME))
         self.camera_poses[frame_id] = pose
