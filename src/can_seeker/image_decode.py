@@ -1,4 +1,4 @@
-"""sensor_msgs/Image payload -> BGR array, with every field checked first.
+"""sensor_msgs/Image and sensor_msgs/CompressedImage payloads -> BGR array, every field checked.
 
 cv_bridge accepts too much data silently, ignores row padding (rows come back scrambled) and
 raises on unknown encodings from deep inside; here each problem is a clear
@@ -17,6 +17,8 @@ COLOUR_ENCODINGS = {
 }
 # Valid images without colour: the frame is readable but red cannot be seen in it.
 GREY_ENCODINGS = ('mono8',)
+# Codecs of image_transport's "compressed" plugin (and of plain "jpeg"/"png" formats).
+COMPRESSED_CODECS = ('jpeg', 'jpg', 'png')
 
 
 class ImageDecodeError(ValueError):
@@ -60,3 +62,62 @@ def decode_bgr(encoding: str, height: int, width: int, step: int, data) -> np.nd
 def decode_image_msg(msg) -> np.ndarray:
     """:func:`decode_bgr` of a sensor_msgs/Image (live or read from a bag)."""
     return decode_bgr(msg.encoding, msg.height, msg.width, msg.step, msg.data)
+
+
+def compressed_codec(image_format: str) -> str:
+    """Codec of a CompressedImage ``format`` whose payload is 8-bit colour or grey.
+
+    Formats are a bare codec ("jpeg", "png") or image_transport's
+    "<encoding>; <codec> compressed <payload encoding>" (older: "<encoding>; <codec>"). Raises
+    ImageDecodeError for depth formats ("16UC1; compressedDepth"), other codecs and payloads
+    that are not 8-bit colour or grey (16-bit or float encodings).
+    """
+    parts = [part.strip() for part in image_format.split(';')]
+    words = parts[-1].split()
+    if any(word.lower() == 'compresseddepth' for word in words):
+        raise ImageDecodeError('unsupported compressed format %r: a depth image, no colour' %
+                               image_format)
+    codec = words[0].lower() if words else ''
+    if codec not in COMPRESSED_CODECS:
+        raise ImageDecodeError('unsupported compressed format %r: expected a %s codec' % (
+            image_format, ' or '.join(COMPRESSED_CODECS)))
+    payload_encoding = words[2] if words[1:2] == ['compressed'] and len(words) > 2 else (
+        parts[0] if len(parts) > 1 else None)
+    if payload_encoding is not None and payload_encoding not in COLOUR_ENCODINGS and \
+            payload_encoding not in GREY_ENCODINGS:
+        raise ImageDecodeError('unsupported compressed format %r: %s is not an 8-bit colour or '
+                               'grey encoding' % (image_format, payload_encoding))
+    return codec
+
+
+def decode_compressed_bgr(image_format: str, data) -> np.ndarray:
+    """BGR uint8 array (height, width, 3) of a CompressedImage's fields (grey comes back grey).
+
+    Raises ImageDecodeError for a format :func:`compressed_codec` rejects, empty data, data
+    cv2.imdecode cannot read (corrupt, or a truncated PNG; libjpeg only warns about a JPEG cut
+    short and fills its missing rows with grey) and images that decode to more than 8 bits per
+    channel (a 16-bit PNG under a bare "png" format).
+    """
+    codec = compressed_codec(image_format)
+    if len(data) == 0:
+        raise ImageDecodeError('empty %s image: no data' % codec)
+    bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR | cv2.IMREAD_ANYDEPTH)
+    if bgr is None:
+        raise ImageDecodeError('corrupt %s image: %d bytes cv2.imdecode cannot read' % (
+            codec, len(data)))
+    if bgr.dtype != np.uint8:
+        raise ImageDecodeError('unsupported %s image depth: %s pixels, expected 8-bit' % (
+            codec, bgr.dtype))
+    return bgr
+
+
+def decode_compressed_msg(msg) -> np.ndarray:
+    """:func:`decode_compressed_bgr` of a sensor_msgs/CompressedImage (live or read from a bag)."""
+    return decode_compressed_bgr(msg.format, msg.data)
+
+
+# The decoder of each image message type, by its ROS type name (a message's ``_type``).
+MESSAGE_DECODERS = {
+    'sensor_msgs/Image': decode_image_msg,
+    'sensor_msgs/CompressedImage': decode_compressed_msg,
+}

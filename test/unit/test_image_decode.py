@@ -1,8 +1,14 @@
-"""Image message fields -> BGR array, and a clear error for every kind of bad message."""
+"""Image and CompressedImage fields -> BGR array, and a clear error for every kind of bad
+message."""
+from types import SimpleNamespace
+
+import cv2
 import numpy as np
 import pytest
 
-from can_seeker.image_decode import ImageDecodeError, NoColourError, decode_bgr
+from can_seeker.image_decode import (MESSAGE_DECODERS, ImageDecodeError, NoColourError,
+                                     decode_bgr, decode_compressed_bgr, decode_compressed_msg,
+                                     decode_image_msg)
 
 HEIGHT, WIDTH = 4, 6
 
@@ -83,3 +89,96 @@ def test_padded_or_short_step_is_rejected(bgr):
 def test_zero_sized_images_are_rejected(height, width):
     with pytest.raises(ImageDecodeError, match='empty image'):
         decode_bgr('bgr8', height, width, width * 3, b'')
+
+
+def red_square_image():
+    """Black 320x240 BGR image with a pure red 40x30 px square at columns 150-189, rows 100-129."""
+    image = np.zeros((240, 320, 3), np.uint8)
+    image[100:130, 150:190] = (0, 0, 255)
+    return image
+
+
+def encoded(image, extension, *params):
+    ok, buffer = cv2.imencode(extension, image, list(params))
+    assert ok
+    return buffer.tobytes()
+
+
+@pytest.mark.parametrize('image_format, extension, params', [
+    ('jpeg', '.jpg', (cv2.IMWRITE_JPEG_QUALITY, 90)),
+    ('rgb8; jpeg compressed bgr8', '.jpg', (cv2.IMWRITE_JPEG_QUALITY, 90)),
+    ('png', '.png', ()),
+    ('bgr8; png compressed bgr8', '.png', ()),
+])
+def test_compressed_red_square_stays_red_where_it_was(image_format, extension, params):
+    image = red_square_image()
+    decoded = decode_compressed_bgr(image_format, encoded(image, extension, *params))
+    assert decoded.shape == image.shape and decoded.dtype == np.uint8
+    blue, green, red = (decoded[..., channel].astype(int) for channel in range(3))
+    red_pixels = (red > 200) & (green < 50) & (blue < 50)
+    rows, columns = np.nonzero(red_pixels)
+    assert (rows.min(), rows.max(), columns.min(), columns.max()) == (100, 129, 150, 189)
+    assert red_pixels.sum() >= 0.9 * 30 * 40
+    if extension == '.png':
+        assert np.array_equal(decoded, image)
+
+
+def test_compressed_grey_comes_back_as_grey_bgr():
+    grey = np.full((8, 10), 77, np.uint8)
+    decoded = decode_compressed_bgr('mono8; png compressed mono8', encoded(grey, '.png'))
+    assert decoded.shape == (8, 10, 3)
+    assert np.all(decoded == 77)
+
+
+def test_compressed_message_fields_are_read():
+    message = SimpleNamespace(format='png', data=encoded(red_square_image(), '.png'))
+    assert np.array_equal(decode_compressed_msg(message), red_square_image())
+    assert MESSAGE_DECODERS['sensor_msgs/CompressedImage'] is decode_compressed_msg
+    assert MESSAGE_DECODERS['sensor_msgs/Image'] is decode_image_msg
+
+
+@pytest.mark.parametrize('image_format, extension', [('jpeg', '.jpg'), ('png', '.png')])
+def test_corrupt_compressed_data_is_rejected(image_format, extension):
+    data = encoded(red_square_image(), extension)
+    flipped = data[:200] + bytes(byte ^ 0xff for byte in data[200:400]) + data[400:]
+    for corrupt in (flipped, data[:20], bytes(range(256)) * 4):
+        with pytest.raises(ImageDecodeError, match='corrupt %s image: %d bytes' % (
+                image_format, len(corrupt))):
+            decode_compressed_bgr(image_format, corrupt)
+
+
+def test_truncated_png_is_rejected():
+    data = encoded(red_square_image(), '.png')
+    with pytest.raises(ImageDecodeError, match='corrupt png image'):
+        decode_compressed_bgr('png', data[:len(data) // 2])
+
+
+def test_empty_compressed_data_is_rejected():
+    with pytest.raises(ImageDecodeError, match='empty jpeg image'):
+        decode_compressed_bgr('rgb8; jpeg compressed bgr8', b'')
+
+
+@pytest.mark.parametrize('image_format', [
+    '16UC1; compressedDepth', '32FC1; compressedDepth png', '16UC1; compressedDepth rvl'])
+def test_compressed_depth_is_rejected(image_format):
+    depth = np.full((8, 10), 1000, np.uint16)
+    with pytest.raises(ImageDecodeError, match='depth image, no colour'):
+        decode_compressed_bgr(image_format, b'\0' * 12 + encoded(depth, '.png'))
+
+
+@pytest.mark.parametrize('image_format', [
+    'bgr16; png compressed bgr16', 'mono16; png compressed mono16', '16UC1; png'])
+def test_16_bit_compressed_formats_are_rejected_by_name(image_format):
+    with pytest.raises(ImageDecodeError, match='not an 8-bit colour or grey encoding'):
+        decode_compressed_bgr(image_format, encoded(np.zeros((8, 10), np.uint16), '.png'))
+
+
+def test_16_bit_png_under_a_bare_format_is_rejected():
+    with pytest.raises(ImageDecodeError, match='image depth: uint16'):
+        decode_compressed_bgr('png', encoded(np.full((8, 10, 3), 1000, np.uint16), '.png'))
+
+
+@pytest.mark.parametrize('image_format', ['', 'theora', 'rgb8; tiff compressed bgr8'])
+def test_other_compressed_codecs_are_rejected_by_name(image_format):
+    with pytest.raises(ImageDecodeError, match='unsupported compressed format'):
+        decode_compressed_bgr(image_format, encoded(red_square_image(), '.png'))

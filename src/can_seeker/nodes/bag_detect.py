@@ -2,7 +2,9 @@
 
 Writes one CSV row per image (stamp, found, centroid, area, bbox, range, bearing) and
 optionally an MP4 of the annotated images. Camera pose from the bag's TF (base frame <- image
-frame), else from the camera mount parameters, exactly as the node does.
+frame), else from the camera mount parameters, exactly as the node does. The image topic may
+hold sensor_msgs/Image or sensor_msgs/CompressedImage (jpeg, png); the decoder follows the
+topic's recorded type.
 """
 import argparse
 import csv
@@ -20,10 +22,11 @@ from tqdm import tqdm
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 from can_seeker import image_converter
 from can_seeker.image_converter import can_report, fallback_pose
-from can_seeker.image_decode import ImageDecodeError, NoColourError, decode_image_msg
+from can_seeker.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
 from can_seeker.params import read_params
 from can_seeker.vision import DetectorSettings, RedCanDetector, draw_annotation
 
+DEFAULT_IMAGE_TOPIC = '/camera/image_raw'
 CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
                'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method')
 
@@ -33,7 +36,9 @@ def parse_args(argv):
     parser.add_argument('bag', help='input bag file')
     parser.add_argument('--csv', help='output CSV (default: the bag name with .csv)')
     parser.add_argument('--video', help='also write the annotated images to this MP4 file')
-    parser.add_argument('--image-topic', default='/camera/image_raw')
+    parser.add_argument('--image-topic',
+                        help='sensor_msgs/Image or CompressedImage topic (default: %s, else '
+                             'the bag\'s only image topic)' % DEFAULT_IMAGE_TOPIC)
     parser.add_argument('--camera-info-topic', default='/camera/camera_info')
     parser.add_argument('--param', action='append', default=[], metavar='NAME=VALUE',
                         help='override an image_converter parameter (repeatable), e.g. '
@@ -54,6 +59,27 @@ def read_overrides(pairs):
                        lambda text: print('bag_detect: ' + text, file=sys.stderr))
 
 
+def choose_image_topic(topic_types, requested):
+    """(topic, message type) to read images from, given the bag's {topic: message type}.
+
+    ``requested`` None means the default topic, or else the bag's only image topic of a type in
+    MESSAGE_DECODERS. Raises SystemExit with the bag's image topics when there is no such choice.
+    """
+    image_topics = sorted(topic for topic, msg_type in topic_types.items()
+                          if msg_type in MESSAGE_DECODERS)
+    listed = ', '.join('%s (%s)' % (topic, topic_types[topic]) for topic in image_topics) or 'none'
+    topic = requested or DEFAULT_IMAGE_TOPIC
+    if requested is None and topic not in topic_types and len(image_topics) == 1:
+        topic = image_topics[0]
+    if topic not in topic_types:
+        raise SystemExit('bag_detect: no topic %s in the bag; its image topics: %s (choose one '
+                         'with --image-topic)' % (topic, listed))
+    if topic_types[topic] not in MESSAGE_DECODERS:
+        raise SystemExit('bag_detect: %s holds %s, expected %s; the bag\'s image topics: %s' % (
+            topic, topic_types[topic], ' or '.join(sorted(MESSAGE_DECODERS)), listed))
+    return topic, topic_types[topic]
+
+
 def report_row(stamp_s, report):
     """CSV values of one frame's CanReport."""
     return ('%.6f' % stamp_s, int(report.found), '%.2f' % report.centroid_x,
@@ -66,9 +92,11 @@ def report_row(stamp_s, report):
 class BagDetector:
     """Runs the pipeline over the messages of one bag in recorded order."""
 
-    def __init__(self, config, args):
+    def __init__(self, config, args, image_topic, image_type):
         self.config = config
         self.args = args
+        self.image_topic = image_topic
+        self.decode = MESSAGE_DECODERS[image_type]
         self.detector = RedCanDetector(DetectorSettings.from_values(config))
         self.fallback_pose = fallback_pose(config.camera_height, config.camera_pitch_deg)
         self.tf = tf2_ros.BufferCore(rospy.Duration(3600.0))
@@ -91,7 +119,7 @@ class BagDetector:
     def on_image(self, msg, fps):
         """CanReport of one image message, or None when the frame cannot be read."""
         try:
-            bgr = decode_image_msg(msg)
+            bgr = self.decode(msg)
         except NoColourError:
             return can_report(None, msg.width, msg.height, None, None, 0.0)
         except ImageDecodeError as error:
@@ -100,10 +128,10 @@ class BagDetector:
             return None
         result = self.detector.detect(bgr)
         intrinsics = self.intrinsics
-        image_size = (msg.width, msg.height)
-        if intrinsics is not None and (intrinsics.width, intrinsics.height) != image_size:
+        height, width = bgr.shape[:2]
+        if intrinsics is not None and (intrinsics.width, intrinsics.height) != (width, height):
             intrinsics = None
-        report = can_report(result.blob, msg.width, msg.height, self.camera_pose(msg),
+        report = can_report(result.blob, width, height, self.camera_pose(msg),
                             intrinsics, self.config.can_diameter)
         if self.args.video:
             self.write_video(draw_annotation(bgr, result, report.range_m), fps)
@@ -144,8 +172,8 @@ class BagDetector:
         for _, msg, _ in bag.read_messages(topics=[self.args.camera_info_topic]):
             self.set_camera_info(msg)
             break
-        topics = [self.args.image_topic, self.args.camera_info_topic, '/tf']
-        image_count = bag.get_message_count(self.args.image_topic)
+        topics = [self.image_topic, self.args.camera_info_topic, '/tf']
+        image_count = bag.get_message_count(self.image_topic)
         duration_s = max(bag.get_end_time() - bag.get_start_time(), 1e-3)
         fps = max(1.0, min(120.0, image_count / duration_s))
         found = 0
@@ -170,12 +198,20 @@ def main(argv=None):
     args = parse_args(rospy.myargv(sys.argv)[1:] if argv is None else argv)
     config = read_overrides(args.param)
     csv_path = args.csv or os.path.splitext(args.bag)[0] + '.csv'
-    with rosbag.Bag(args.bag) as bag, open(csv_path, 'w', newline='') as csv_file:
-        writer = csv.writer(csv_file)
-        writer.writerow(CSV_COLUMNS)
-        detector = BagDetector(config, args)
-        frames, found = detector.run(bag, writer)
+    with rosbag.Bag(args.bag) as bag:
+        topic_types = {topic: info.msg_type
+                       for topic, info in bag.get_type_and_topic_info().topics.items()}
+        image_topic, image_type = choose_image_topic(topic_types, args.image_topic)
+        if args.image_topic is None and image_topic != DEFAULT_IMAGE_TOPIC:
+            print('bag_detect: no %s in the bag; reading its only image topic, %s (%s)' % (
+                DEFAULT_IMAGE_TOPIC, image_topic, image_type))
+        detector = BagDetector(config, args, image_topic, image_type)
+        with open(csv_path, 'w', newline='') as csv_file:
+            writer = csv.writer(csv_file)
+            writer.writerow(CSV_COLUMNS)
+            frames, found = detector.run(bag, writer)
     print('bag_detect: %d frames, can found in %d; CSV: %s%s' % (
         frames, found, csv_path, '; video: %s' % args.video if args.video else ''))
     for reason, count in sorted(detector.skipped.items()):
-        print('bag_detect: skipped %d frames: %s' % (count, reason), file=sys.stderr)
+        print('bag_detect: skipped %d of %d frames (no CSV row): %s' % (count, frames, reason),
+              file=sys.stderr)
