@@ -77,6 +77,11 @@ def read_params(specs: Sequence[Param], get_param: Callable[[str, Any], Any],
     return SimpleNamespace(**values)
 
 
+def defaults(specs: Sequence[Param]) -> SimpleNamespace:
+    """The default of every parameter in ``specs``, by name (for tools that mirror a node)."""
+    return SimpleNamespace(**{spec.name: spec.default for spec in specs})
+
+
 def launch_value(value) -> str:
     """The text a launch file's ``<arg default=...>`` holds for ``value``."""
     if isinstance(value, bool):

@@ -10,17 +10,22 @@ import statistics
 from dataclasses import asdict, dataclass
 from typing import Iterable, List, Optional, Sequence, Tuple
 
+from can_seeker.control import PARAMS as CONTROL_PARAMS
+from can_seeker.params import defaults
+
+CONTROL = defaults(CONTROL_PARAMS)
+
 
 @dataclass(frozen=True)
 class Criteria:
     """What counts as a successful stop."""
 
-    stop_distance_m: float = 0.25
+    stop_distance_m: float = CONTROL.stop_distance
     gap_tolerance_m: float = 0.02
     bearing_tolerance_deg: float = 3.0
     time_limit_s: float = 90.0
-    robot_radius_m: float = 0.165
-    can_radius_m: float = 0.033
+    robot_radius_m: float = CONTROL.robot_radius
+    can_radius_m: float = CONTROL.can_radius
 
 
 def true_gap_and_bearing(base_xy: Sequence[float], base_yaw_rad: float,

@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from can_seeker.params import Param, launch_value, markdown_table, read_params
+from can_seeker.params import Param, defaults, launch_value, markdown_table, read_params
 
 SPECS = (
     Param('rate', 20.0, 'loop rate (Hz)', minimum=0.1, maximum=1000.0),
@@ -54,3 +54,8 @@ def test_launch_value_and_markdown_table():
     table = markdown_table(SPECS)
     assert '| `~gui` | `false` | open the GUI |' in table
     assert table.count('\n') == len(SPECS) + 1
+
+
+def test_defaults_by_name():
+    values = defaults(SPECS)
+    assert (values.rate, values.width, values.gui, values.renderer) == (20.0, 320, False, 'auto')

@@ -19,13 +19,15 @@ from cv_bridge import CvBridge, CvBridgeError
 from sensor_msgs.msg import Image
 
 from can_seeker.nodes.closed_loop import LaunchedSystem, TrialRunner
-from can_seeker.simulation import random_can_position
+from can_seeker.params import defaults
+from can_seeker.simulation import PARAMS as SIM_PARAMS, random_can_position
 from can_seeker.topdown import TopDownView, draw_topdown, plot_trajectory, side_by_side
 from can_seeker.trials import Criteria
 from can_seeker.video import Mp4Writer
 
 VIDEO_HEIGHT_PX = 480
 VIEW_MARGIN_M = 0.6
+SIM = defaults(SIM_PARAMS)
 
 
 def parse_args(argv):
@@ -34,11 +36,11 @@ def parse_args(argv):
     parser.add_argument('--seed', type=int, default=None,
                         help='seed of the can placement (default: a random one, printed)')
     parser.add_argument('--output', default='demo_output', help='output directory')
-    parser.add_argument('--min-distance', type=float, default=0.5,
+    parser.add_argument('--min-distance', type=float, default=SIM.can_min_distance,
                         help='nearest can centre from the robot start (m)')
-    parser.add_argument('--max-distance', type=float, default=3.0,
+    parser.add_argument('--max-distance', type=float, default=SIM.can_max_distance,
                         help='farthest can centre from the robot start (m)')
-    parser.add_argument('--time-limit', type=float, default=90.0,
+    parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=1.0,
                         help='sim speed; 0 runs as fast as possible')

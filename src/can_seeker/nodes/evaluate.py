@@ -16,8 +16,11 @@ import rospy
 from tqdm import tqdm
 
 from can_seeker.nodes.closed_loop import LaunchedSystem, TrialRunner
-from can_seeker.simulation import DEFAULT_CAN_RGBA, random_can_position
+from can_seeker.params import defaults
+from can_seeker.simulation import PARAMS as SIM_PARAMS, random_can_position
 from can_seeker.trials import Criteria, summarise, summary_table
+
+SIM = defaults(SIM_PARAMS)
 
 
 def parse_args(argv):
@@ -26,19 +29,19 @@ def parse_args(argv):
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     parser.add_argument('--trials', type=int, default=50, help='number of trials')
     parser.add_argument('--seed', type=int, default=0, help='seed of the first can placement')
-    parser.add_argument('--min-distance', type=float, default=0.5,
+    parser.add_argument('--min-distance', type=float, default=SIM.can_min_distance,
                         help='nearest can centre from the robot start (m)')
-    parser.add_argument('--max-distance', type=float, default=3.0,
+    parser.add_argument('--max-distance', type=float, default=SIM.can_max_distance,
                         help='farthest can centre from the robot start (m)')
-    parser.add_argument('--width', type=int, default=320, help='image width (px)')
-    parser.add_argument('--height', type=int, default=240, help='image height (px)')
-    parser.add_argument('--camera-height', type=float, default=0.25,
+    parser.add_argument('--width', type=int, default=SIM.width, help='image width (px)')
+    parser.add_argument('--height', type=int, default=SIM.height, help='image height (px)')
+    parser.add_argument('--camera-height', type=float, default=SIM.camera_height,
                         help='camera height above the floor (m)')
-    parser.add_argument('--camera-pitch', type=float, default=25.0,
+    parser.add_argument('--camera-pitch', type=float, default=SIM.camera_pitch_deg,
                         help='camera pitch below the horizon (deg)')
-    parser.add_argument('--can-rgba', default=DEFAULT_CAN_RGBA,
+    parser.add_argument('--can-rgba', default=SIM.can_rgba,
                         help='can colour: red green blue alpha in 0-1')
-    parser.add_argument('--time-limit', type=float, default=90.0,
+    parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=0.0,
                         help='sim speed; 0 runs as fast as possible')
