@@ -1,6 +1,6 @@
-"""Installs the pure-Python can_seeker package from src/ (catkin calls this)."""
-from setuptools import setup
+"""Installs the pure-Python can_seeker package and every subpackage from src/ (catkin calls this)."""
+from setuptools import find_packages, setup
 
 from catkin_pkg.python_setup import generate_distutils_setup
 
-setup(**generate_distutils_setup(packages=['can_seeker'], package_dir={'': 'src'}))
+setup(**generate_distutils_setup(packages=find_packages('src'), package_dir={'': 'src'}))

@@ -3,7 +3,7 @@ import threading
 
 import pytest
 
-from can_seeker.call_queue import CallQueue
+from can_seeker.sim.call_queue import CallQueue
 
 
 def _owner_loop(calls, stop):

@@ -5,7 +5,7 @@ from types import SimpleNamespace
 import pytest
 
 from can_seeker.camera_geometry import camera_pose_from_transform
-from can_seeker.control import (PARAMS, CameraFloorPose, Controller, Sighting, State,
+from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
                                 camera_floor_pose, dead_band, detection_problem,
                                 sighting_from_detection)
 

@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from can_seeker.drive import CommandWatchdog, TwistLimiter, wheel_speeds
+from can_seeker.sim.drive import CommandWatchdog, TwistLimiter, wheel_speeds
 
 
 def test_watchdog_holds_a_fresh_command_and_zeroes_a_stale_one():

@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.image_decode import (MESSAGE_DECODERS, ImageDecodeError, NoColourError,
+from can_seeker.vision.image_decode import (MESSAGE_DECODERS, ImageDecodeError, NoColourError,
                                      decode_bgr, decode_compressed_bgr, decode_compressed_msg,
                                      decode_image_msg)
 

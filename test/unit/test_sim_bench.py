@@ -1,7 +1,7 @@
 """The world benchmark runs the requested configuration and reports consistent numbers."""
 import pathlib
 
-from can_seeker.sim_bench import run_case
+from can_seeker.evaluation.sim_bench import run_case
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
 

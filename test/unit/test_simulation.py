@@ -6,9 +6,9 @@ from types import SimpleNamespace
 import pytest
 
 from can_seeker.params import read_params
-from can_seeker.simulation import (MIN_CAN_CLEARANCE_M, PARAMS, RateSchedule, Simulation,
+from can_seeker.sim.simulation import (MIN_CAN_CLEARANCE_M, PARAMS, RateSchedule, Simulation,
                                    camera_spec, checked_config, parse_rgba, random_can_position)
-from can_seeker.world import World
+from can_seeker.sim.world import World
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
 

@@ -5,7 +5,7 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.topdown import CAN, PATH, TopDownView, draw_topdown, plot_trajectory, \
+from can_seeker.evaluation.topdown import CAN, PATH, TopDownView, draw_topdown, plot_trajectory, \
     side_by_side
 
 

@@ -4,7 +4,7 @@ import math
 import pytest
 
 from can_seeker.camera_geometry import yaw_from_quaternion
-from can_seeker.trials import Criteria, judge, path_length, summarise, summary_table, \
+from can_seeker.evaluation.trials import Criteria, judge, path_length, summarise, summary_table, \
     true_gap_and_bearing
 
 CRITERIA = Criteria()

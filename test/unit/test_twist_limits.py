@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from can_seeker.twist_limits import TwistLimits, limit_twist, step_toward
+from can_seeker.control.twist_limits import TwistLimits, limit_twist, step_toward
 
 LIMITS = TwistLimits(max_forward=0.4, max_reverse=0.1, max_angular=1.0, linear_accel=0.5,
                      angular_accel=2.0)

@@ -4,7 +4,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from can_seeker.video import Mp4Writer
+from can_seeker.evaluation.video import Mp4Writer
 
 
 def test_writes_a_playable_mp4_with_every_frame(tmp_path):

@@ -3,7 +3,7 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.vision import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
+from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                centroid_from_moments, draw_annotation, largest_blob)
 
 WIDTH, HEIGHT = 320, 240

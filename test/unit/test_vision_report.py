@@ -4,8 +4,8 @@ import math
 import pytest
 
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
-from can_seeker.image_converter import PARAMS, can_report, fallback_pose
-from can_seeker.vision import DETECTOR_PARAMS, Blob
+from can_seeker.vision.report import PARAMS, can_report, fallback_pose
+from can_seeker.vision.detector import DETECTOR_PARAMS, Blob
 
 INTRINSICS = intrinsics_from_vertical_fov(320, 240, 45.0)
 # A can blob around the image centre, bottom at row 139, clear of every image edge.

@@ -7,8 +7,8 @@ import pytest
 
 from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import CameraMount
-from can_seeker.drive import TwistLimiter
-from can_seeker.world import (CAN_HEIGHT_M, CameraSpec, World, rgba_to_image)
+from can_seeker.sim.drive import TwistLimiter
+from can_seeker.sim.world import (CAN_HEIGHT_M, CameraSpec, World, rgba_to_image)
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
 CAMERA = CameraSpec(160, 120, 45.0, CameraMount(0.25, 25.0))
@@ -186,7 +186,7 @@ def test_auto_renderer_produces_a_scene():
 
 
 def test_missing_egl_plugin_falls_back_to_tinyrenderer(monkeypatch):
-    monkeypatch.setattr('can_seeker.world.importlib.util.find_spec', lambda name: None)
+    monkeypatch.setattr('can_seeker.sim.world.importlib.util.find_spec', lambda name: None)
     small = CameraSpec(64, 48, 45.0, CameraMount(0.25, 25.0))
     with World(URDF, small, renderer='auto') as world:
         assert world.renderer_name == 'tiny'

@@ -2,7 +2,8 @@
 
 Subscribes ``/image_converter/detection`` (can_seeker/CanDetection), publishes ``/cmd_vel``
 (geometry_msgs/Twist) from a fixed-rate timer and ``~state`` (std_msgs/String, latched);
-``~reset`` (std_srvs/Empty) returns to SEARCH. The behaviour is :mod:`can_seeker.control`.
+``~reset`` (std_srvs/Empty) returns to SEARCH. The behaviour is
+:mod:`can_seeker.control.controller`.
 """
 import threading
 import time
@@ -14,7 +15,7 @@ from std_msgs.msg import String
 from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.camera_geometry import camera_pose_from_transform
-from can_seeker.control import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
+from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
                                 detection_problem, sighting_from_detection)
 from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
@@ -33,7 +34,7 @@ def twist(linear, angular):
 
 
 class CanStopperNode:
-    """Glue between ROS and :class:`can_seeker.control.Controller`."""
+    """Glue between ROS and :class:`can_seeker.control.controller.Controller`."""
 
     def __init__(self):
         self.params = read_params(PARAMS, rospy.get_param, rospy.logwarn)

@@ -18,11 +18,12 @@ from sensor_msgs.msg import CameraInfo, Image
 
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 from can_seeker.cfg import ImageConverterConfig
-from can_seeker.image_converter import PARAMS, can_report, fallback_pose
-from can_seeker.image_decode import ImageDecodeError, NoColourError, decode_image_msg
+from can_seeker.vision.report import PARAMS, can_report, fallback_pose
+from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
 from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
-from can_seeker.vision import DETECTOR_PARAMS, DetectorSettings, RedCanDetector, draw_annotation
+from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
+                                        draw_annotation)
 
 IMAGE_BUFF_SIZE = 2 ** 24
 """Subscriber socket buffer (bytes): with queue_size=1 it keeps only the newest frame."""

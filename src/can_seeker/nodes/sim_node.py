@@ -20,12 +20,12 @@ from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Bool
 from std_srvs.srv import Empty, EmptyResponse
 
-from can_seeker.call_queue import CallQueue
+from can_seeker.sim.call_queue import CallQueue
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.params import read_params
-from can_seeker.simulation import PARAMS, Simulation, camera_spec, checked_config
+from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_config
 from can_seeker.srv import PlaceCan, PlaceCanResponse
-from can_seeker.world import World, package_urdf_path
+from can_seeker.sim.world import World, package_urdf_path
 
 ODOM_FRAME = 'odom'
 BASE_FRAME = 'base_link'

@@ -15,10 +15,10 @@ import tempfile
 import rospy
 from tqdm import tqdm
 
-from can_seeker.nodes.closed_loop import LaunchedSystem, TrialRunner
+from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
-from can_seeker.simulation import PARAMS as SIM_PARAMS, random_can_position
-from can_seeker.trials import Criteria, summarise, summary_table
+from can_seeker.sim.simulation import PARAMS as SIM_PARAMS, random_can_position
+from can_seeker.evaluation.trials import Criteria, summarise, summary_table
 
 SIM = defaults(SIM_PARAMS)
 

@@ -10,7 +10,7 @@ import statistics
 from dataclasses import asdict, dataclass
 from typing import Iterable, List, Optional, Sequence, Tuple
 
-from can_seeker.control import PARAMS as CONTROL_PARAMS
+from can_seeker.control.controller import PARAMS as CONTROL_PARAMS
 from can_seeker.params import defaults
 
 CONTROL = defaults(CONTROL_PARAMS)

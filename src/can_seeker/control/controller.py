@@ -27,7 +27,7 @@ from typing import Optional, Tuple
 
 from can_seeker.camera_geometry import CameraPose
 from can_seeker.params import Param
-from can_seeker.twist_limits import TwistLimits, limit_twist
+from can_seeker.control.twist_limits import TwistLimits, limit_twist
 
 PARAMS = (
     Param('rate', 20.0, 'rate of the /cmd_vel commands from the control timer (Hz)', 1.0, 200.0),

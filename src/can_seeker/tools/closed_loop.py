@@ -20,7 +20,7 @@ from std_srvs.srv import Empty
 
 from can_seeker.srv import PlaceCan
 from can_seeker.camera_geometry import yaw_from_quaternion
-from can_seeker.trials import judge, path_length
+from can_seeker.evaluation.trials import judge, path_length
 
 STATE_TOPIC = '/can_stopper/state'
 SERVICES = ('/sim/reset', '/sim/place_can', '/can_stopper/reset')

@@ -16,9 +16,9 @@ import rosgraph
 import rospy
 from sensor_msgs.msg import Image
 
-from can_seeker.nodes.closed_loop import free_port
-from can_seeker.sim_bench import CASES, run_case
-from can_seeker.world import RENDERERS, package_urdf_path
+from can_seeker.tools.closed_loop import free_port
+from can_seeker.evaluation.sim_bench import CASES, run_case
+from can_seeker.sim.world import RENDERERS, package_urdf_path
 
 STARTUP_TIMEOUT_S = 60.0
 WARM_UP_S = 2.0

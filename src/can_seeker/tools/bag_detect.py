@@ -20,11 +20,11 @@ import tf2_ros
 from tqdm import tqdm
 
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
-from can_seeker import image_converter
-from can_seeker.image_converter import can_report, fallback_pose
-from can_seeker.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
+from can_seeker.vision import report
+from can_seeker.vision.report import can_report, fallback_pose
+from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
 from can_seeker.params import read_params
-from can_seeker.vision import DetectorSettings, RedCanDetector, draw_annotation
+from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_annotation
 
 DEFAULT_IMAGE_TOPIC = '/camera/image_raw'
 CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
@@ -52,10 +52,10 @@ def read_overrides(pairs):
     for pair in pairs:
         name, _, value = pair.partition('=')
         overrides['~' + name.strip()] = value.strip()
-    known = {'~' + spec.name for spec in image_converter.PARAMS}
+    known = {'~' + spec.name for spec in report.PARAMS}
     for name in sorted(set(overrides) - known):
         print('bag_detect: unknown parameter %s ignored' % name[1:], file=sys.stderr)
-    return read_params(image_converter.PARAMS, lambda name, default: overrides.get(name, default),
+    return read_params(report.PARAMS, lambda name, default: overrides.get(name, default),
                        lambda text: print('bag_detect: ' + text, file=sys.stderr))
 
 

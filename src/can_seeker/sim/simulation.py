@@ -13,9 +13,9 @@ from typing import Callable, Optional, Tuple
 import numpy as np
 
 from can_seeker.camera_mount import CameraMount
-from can_seeker.drive import CommandWatchdog, TwistLimiter
+from can_seeker.sim.drive import CommandWatchdog, TwistLimiter
 from can_seeker.params import Param
-from can_seeker.world import (BODY_RADIUS_M, CAN_RADIUS_M, CAN_RGBA, RENDERERS, CameraSpec,
+from can_seeker.sim.world import (BODY_RADIUS_M, CAN_RADIUS_M, CAN_RGBA, RENDERERS, CameraSpec,
                               World)
 
 DEFAULT_CAN_RGBA = ' '.join('%g' % channel for channel in CAN_RGBA)

@@ -22,9 +22,9 @@ import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
-from can_seeker.image_converter import can_report, fallback_pose
+from can_seeker.vision.report import can_report, fallback_pose
 from can_seeker.msg import CanDetection
-from can_seeker.vision import RedCanDetector
+from can_seeker.vision.detector import RedCanDetector
 
 SIZES = ((320, 240), (640, 480), (1280, 720))
 TUTORIAL_RED_LOW = (0, 120, 70)

@@ -8,8 +8,8 @@ import statistics
 import time
 from types import SimpleNamespace
 
-from can_seeker.simulation import PARAMS, Simulation, camera_spec, checked_config
-from can_seeker.world import World
+from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_config
+from can_seeker.sim.world import World
 
 CASES = ((320, 240, 15.0, 3.0), (640, 480, 30.0, 1.0))
 """(width px, height px, camera rate Hz, target real-time factor)."""

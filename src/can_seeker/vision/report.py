@@ -9,7 +9,7 @@ from typing import Optional
 from can_seeker.camera_geometry import CameraPose, camera_pose_from_mount, can_range_bearing
 from can_seeker.camera_mount import CameraMount
 from can_seeker.params import Param
-from can_seeker.vision import DETECTOR_PARAMS, Blob
+from can_seeker.vision.detector import DETECTOR_PARAMS, Blob
 
 PARAMS = DETECTOR_PARAMS + (
     Param('base_frame', 'base_link', 'frame on the floor (z up) in which the camera pose is '

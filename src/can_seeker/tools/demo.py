@@ -18,12 +18,12 @@ import rospy
 from cv_bridge import CvBridge, CvBridgeError
 from sensor_msgs.msg import Image
 
-from can_seeker.nodes.closed_loop import LaunchedSystem, TrialRunner
+from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
-from can_seeker.simulation import PARAMS as SIM_PARAMS, random_can_position
-from can_seeker.topdown import TopDownView, draw_topdown, plot_trajectory, side_by_side
-from can_seeker.trials import Criteria
-from can_seeker.video import Mp4Writer
+from can_seeker.sim.simulation import PARAMS as SIM_PARAMS, random_can_position
+from can_seeker.evaluation.topdown import TopDownView, draw_topdown, plot_trajectory, side_by_side
+from can_seeker.evaluation.trials import Criteria
+from can_seeker.evaluation.video import Mp4Writer
 
 VIDEO_HEIGHT_PX = 480
 VIEW_MARGIN_M = 0.6

@@ -20,7 +20,7 @@ from pybullet_utils.bullet_client import BulletClient
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_matrix, \
     yaw_from_quaternion
 from can_seeker.camera_mount import CameraMount
-from can_seeker.drive import wheel_speeds
+from can_seeker.sim.drive import wheel_speeds
 
 WHEEL_RADIUS_M = 0.036
 WHEEL_SEPARATION_M = 0.235

@@ -1,0 +1,1 @@
+"""The can_stopper behaviour: state machine and control law, velocity and acceleration limits."""

@@ -1,0 +1,1 @@
+"""Judging runs on ground truth: trial criteria, top-down views, videos, simulator benchmarks."""

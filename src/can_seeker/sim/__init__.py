@@ -1,0 +1,1 @@
+"""The pybullet simulator: world building, drive limits, the sim-time loop, sim-thread calls."""

@@ -1,0 +1,1 @@
+"""Finding the can in an image: image decoding, the red detector, the per-frame report."""
