@@ -75,14 +75,60 @@ def test_short_and_long_data_are_rejected(bgr):
             decode_bgr(**dict(good, data=data))
 
 
-def test_padded_or_short_step_is_rejected(bgr):
+@pytest.mark.parametrize('encoding, convert', [
+    ('bgr8', None), ('rgb8', cv2.COLOR_BGR2RGB), ('bgra8', cv2.COLOR_BGR2BGRA),
+    ('rgba8', cv2.COLOR_BGR2RGBA)])
+def test_padded_step_is_decoded(bgr, encoding, convert):
+    """Rows padded beyond width * bytes per pixel are legal in sensor_msgs/Image."""
+    pixels = bgr if convert is None else cv2.cvtColor(bgr, convert)
+    row_bytes = pixels.shape[1] * pixels.shape[2]
+    for padding in (1, 2, 13):
+        padded = np.full((HEIGHT, row_bytes + padding), 0xAB, np.uint8)
+        padded[:, :row_bytes] = pixels.reshape(HEIGHT, -1)
+        decoded = decode_bgr(encoding, HEIGHT, WIDTH, row_bytes + padding, padded.tobytes())
+        assert np.array_equal(decoded, bgr), (encoding, padding)
+
+
+def test_short_step_is_rejected(bgr):
     good = fields(bgr, 'bgr8')
-    padded = np.zeros((HEIGHT, WIDTH * 3 + 2), np.uint8)
-    padded[:, :WIDTH * 3] = bgr.reshape(HEIGHT, -1)
-    with pytest.raises(ImageDecodeError, match='padded rows'):
-        decode_bgr(**dict(good, step=WIDTH * 3 + 2, data=padded.tobytes()))
-    with pytest.raises(ImageDecodeError, match='step'):
+    with pytest.raises(ImageDecodeError, match='step is 15 bytes, less than') as error:
         decode_bgr(**dict(good, step=WIDTH * 3 - 3, data=good['data'][:HEIGHT * (WIDTH * 3 - 3)]))
+    assert error.value.kind == 'step'
+
+
+def test_padded_data_must_fill_every_padded_row(bgr):
+    padded = np.zeros((HEIGHT, WIDTH * 3 + 2), np.uint8).tobytes()
+    with pytest.raises(ImageDecodeError, match='data has') as error:
+        decode_bgr('bgr8', HEIGHT, WIDTH, WIDTH * 3 + 2, padded[:-2])
+    assert error.value.kind == 'data length'
+
+
+@pytest.mark.parametrize('height, width, data', [
+    (0, 0, b''), (100000, 100000, b'\0' * 300), (HEIGHT, WIDTH, b'\0' * (HEIGHT * WIDTH - 1))],
+    ids=['0x0 no data', '100000x100000 300 bytes', 'one byte short'])
+def test_malformed_mono8_is_rejected_not_taken_as_grey(height, width, data):
+    with pytest.raises(ImageDecodeError) as error:
+        decode_bgr('mono8', height, width, width, data)
+    assert not isinstance(error.value, NoColourError)
+    assert error.value.kind in ('size', 'data length')
+
+
+def test_every_fault_has_a_kind(bgr):
+    good = fields(bgr, 'bgr8')
+    kinds = {}
+    for name, bad in (('encoding', dict(good, encoding='yuv422')),
+                      ('size', dict(good, height=0, data=b'')),
+                      ('step', dict(good, step=5)),
+                      ('data length', dict(good, data=good['data'][:7])),
+                      ('other data length', dict(good, data=good['data'][:9])),
+                      ('no colour', dict(good, encoding='mono8', step=WIDTH,
+                                         data=good['data'][:HEIGHT * WIDTH]))):
+        with pytest.raises(ImageDecodeError) as error:
+            decode_bgr(**bad)
+        kinds[name] = error.value.kind
+    assert kinds == {'encoding': 'encoding', 'size': 'size', 'step': 'step',
+                     'data length': 'data length', 'other data length': 'data length',
+                     'no colour': 'no colour'}
 
 
 @pytest.mark.parametrize('height, width', [(0, 0), (0, WIDTH), (HEIGHT, 0)])

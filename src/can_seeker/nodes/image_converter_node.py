@@ -9,6 +9,7 @@ from ``~camera_height``/``~camera_pitch_deg``.
 import os
 import queue
 import threading
+import time
 
 import cv2
 import rospy
@@ -22,6 +23,7 @@ from can_seeker.vision.report import PARAMS, can_report, fallback_pose
 from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
 from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
+from can_seeker.throttle import KindThrottle
 from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                         draw_annotation)
 
@@ -78,6 +80,7 @@ class ImageConverterNode:
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.display = self._make_display(self.config.show)
+        self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.detection_pub = rospy.Publisher('~detection', CanDetection, queue_size=10)
         self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
         self.mask_pub = rospy.Publisher('~mask', Image, queue_size=1)
@@ -145,27 +148,38 @@ class ImageConverterNode:
             self.publish_detection(msg, can_report(None, msg.width, msg.height, None, None, 0.0))
             return
         except ImageDecodeError as error:
-            rospy.logerr_throttle_identical(ERROR_PERIOD_S, 'image_converter: skipping frame: %s'
-                                            % error)
+            self.log_decode_error(error)
             return
-        want_edges = self.display is not None or self.edges_pub.get_num_connections() > 0
+        # Subscribers come and go while a frame is processed: decide once what to build.
+        want_mask = self.mask_pub.get_num_connections() > 0
+        publish_edges = self.edges_pub.get_num_connections() > 0
+        want_edges = self.display is not None or publish_edges
+        want_annotated = self.annotated_pub.get_num_connections() > 0
         result = self.detector.detect(bgr, want_edges)
         pose, intrinsics = self.camera_geometry(msg) if result.found else (None, None)
         report = can_report(result.blob, msg.width, msg.height, pose, intrinsics,
                             self.config.can_diameter)
         self.publish_detection(msg, report)
-        if self.mask_pub.get_num_connections() > 0:
+        if want_mask:
             self.mask_pub.publish(image_msg(msg.header, result.mask, 'mono8'))
-        if self.edges_pub.get_num_connections() > 0:
+        if publish_edges:
             self.edges_pub.publish(image_msg(msg.header, result.edges, 'mono8'))
-        if self.display is None and self.annotated_pub.get_num_connections() == 0:
+        if self.display is None and not want_annotated:
             return
         annotated = draw_annotation(bgr, result, report.range_m)
-        if self.annotated_pub.get_num_connections() > 0:
+        if want_annotated:
             self.annotated_pub.publish(image_msg(msg.header, annotated, 'bgr8'))
         if self.display is not None:
             self.display.offer({'origin': bgr.copy(), 'result': annotated,
                                 'edges': result.edges.copy()})
+
+    def log_decode_error(self, error):
+        """One ERROR per kind of fault every ERROR_PERIOD_S, saying how many were held back."""
+        allowed, held_back = self.decode_errors.allow(error.kind, time.monotonic())
+        if allowed:
+            rospy.logerr('image_converter: skipping frame: %s%s' % (
+                error, ' (%d more %s faults since the last report)' % (held_back, error.kind)
+                if held_back else ''))
 
     def publish_detection(self, image, report):
         detection = CanDetection(header=image.header, found=report.found,

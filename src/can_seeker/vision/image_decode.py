@@ -22,38 +22,65 @@ COMPRESSED_CODECS = ('jpeg', 'jpg', 'png')
 
 
 class ImageDecodeError(ValueError):
-    """The message is not an image this detector can read; the reason is the message text."""
+    """The message is not an image this detector can read; the reason is the message text.
+
+    ``kind`` names the fault (one of FAULT_KINDS) so a node can throttle its log per kind of
+    fault rather than per text: frames cut to ever different lengths are one fault.
+    """
+
+    def __init__(self, message: str, kind: str):
+        super().__init__(message)
+        self.kind = kind
 
 
 class NoColourError(ImageDecodeError):
     """A valid single-channel image: a colour detector cannot see red in it."""
 
+    def __init__(self, message: str):
+        super().__init__(message, 'no colour')
+
+
+# The kinds of fault an ImageDecodeError reports.
+FAULT_KINDS = ('no colour', 'encoding', 'size', 'step', 'data length', 'format', 'corrupt',
+               'depth')
+
+
+def _check_layout(encoding: str, height: int, width: int, step: int, data_bytes: int,
+                  channels: int) -> None:
+    """Raise ImageDecodeError unless the sizes describe a non-empty image whose rows of
+    ``width * channels`` bytes (padded to ``step``) fill exactly ``height * step`` bytes."""
+    if height <= 0 or width <= 0:
+        raise ImageDecodeError('empty image: %d x %d px' % (width, height), 'size')
+    row_bytes = width * channels
+    if step < row_bytes:
+        raise ImageDecodeError('%s step is %d bytes, less than width %d x %d = %d' % (
+            encoding, step, width, channels, row_bytes), 'step')
+    if data_bytes != height * step:
+        raise ImageDecodeError('data has %d bytes, expected height %d x step %d = %d' % (
+            data_bytes, height, step, height * step), 'data length')
+
 
 def decode_bgr(encoding: str, height: int, width: int, step: int, data) -> np.ndarray:
     """BGR uint8 array (height, width, 3) of an image message's fields.
 
-    For bgr8 the array is a read-only view on ``data``; other encodings are converted into a new
-    array. Raises NoColourError for mono8 and ImageDecodeError for anything unreadable: other
-    encodings, zero size, a step that is not exactly width * bytes per pixel (padded rows are
-    not supported), or data that is not exactly height * step bytes.
+    For bgr8 the array is a read-only view on ``data`` (rows padded to ``step`` bytes stay a
+    strided view); other encodings are converted into a new array. Raises NoColourError for a
+    well-formed mono8 image and ImageDecodeError for anything unreadable: other encodings,
+    zero size, a step shorter than a row, or data that is not exactly height * step bytes.
     """
     if encoding in GREY_ENCODINGS:
+        _check_layout(encoding, height, width, step, len(data), 1)
         raise NoColourError('%s image: no colour, a red can cannot be seen (send bgr8, rgb8, '
                             'bgra8 or rgba8)' % encoding)
     if encoding not in COLOUR_ENCODINGS:
         raise ImageDecodeError('unsupported encoding %r: expected one of %s' % (
-            encoding, ', '.join(sorted(COLOUR_ENCODINGS))))
-    if height <= 0 or width <= 0:
-        raise ImageDecodeError('empty image: %d x %d px' % (width, height))
+            encoding, ', '.join(sorted(COLOUR_ENCODINGS))), 'encoding')
     channels, conversion = COLOUR_ENCODINGS[encoding]
-    row_bytes = width * channels
-    if step != row_bytes:
-        raise ImageDecodeError('%s step is %d bytes, expected width %d x %d = %d (padded rows '
-                               'are not supported)' % (encoding, step, width, channels, row_bytes))
-    if len(data) != height * step:
-        raise ImageDecodeError('data has %d bytes, expected height %d x step %d = %d' % (
-            len(data), height, step, height * step))
-    pixels = np.frombuffer(data, np.uint8).reshape(height, width, channels)
+    _check_layout(encoding, height, width, step, len(data), channels)
+    rows = np.frombuffer(data, np.uint8).reshape(height, step)
+    if step != width * channels:
+        rows = rows[:, :width * channels]
+    pixels = rows.reshape(height, width, channels)
     if conversion is None:
         return pixels
     return cv2.cvtColor(pixels, conversion)
@@ -76,17 +103,17 @@ def compressed_codec(image_format: str) -> str:
     words = parts[-1].split()
     if any(word.lower() == 'compresseddepth' for word in words):
         raise ImageDecodeError('unsupported compressed format %r: a depth image, no colour' %
-                               image_format)
+                               image_format, 'format')
     codec = words[0].lower() if words else ''
     if codec not in COMPRESSED_CODECS:
         raise ImageDecodeError('unsupported compressed format %r: expected a %s codec' % (
-            image_format, ' or '.join(COMPRESSED_CODECS)))
+            image_format, ' or '.join(COMPRESSED_CODECS)), 'format')
     payload_encoding = words[2] if words[1:2] == ['compressed'] and len(words) > 2 else (
         parts[0] if len(parts) > 1 else None)
     if payload_encoding is not None and payload_encoding not in COLOUR_ENCODINGS and \
             payload_encoding not in GREY_ENCODINGS:
         raise ImageDecodeError('unsupported compressed format %r: %s is not an 8-bit colour or '
-                               'grey encoding' % (image_format, payload_encoding))
+                               'grey encoding' % (image_format, payload_encoding), 'format')
     return codec
 
 
@@ -100,14 +127,14 @@ def decode_compressed_bgr(image_format: str, data) -> np.ndarray:
     """
     codec = compressed_codec(image_format)
     if len(data) == 0:
-        raise ImageDecodeError('empty %s image: no data' % codec)
+        raise ImageDecodeError('empty %s image: no data' % codec, 'size')
     bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR | cv2.IMREAD_ANYDEPTH)
     if bgr is None:
         raise ImageDecodeError('corrupt %s image: %d bytes cv2.imdecode cannot read' % (
-            codec, len(data)))
+            codec, len(data)), 'corrupt')
     if bgr.dtype != np.uint8:
         raise ImageDecodeError('unsupported %s image depth: %s pixels, expected 8-bit' % (
-            codec, bgr.dtype))
+            codec, bgr.dtype), 'depth')
     return bgr
 
 
