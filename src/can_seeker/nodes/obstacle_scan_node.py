@@ -1,0 +1,129 @@
+"""obstacle_scan: camera images -> a planar LaserScan of the obstacles standing on the floor.
+
+Subscribes ``image`` (queue_size=1, large buff_size: always the newest frame) and
+``camera_info``; publishes ``camera_scan`` (sensor_msgs/LaserScan in ``~scan_frame``, stamped
+with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``~obstacles``
+(mono8). The camera pose comes from TF (``~scan_frame`` <- image frame), cached and refreshed
+once a second, else from ``~camera_height``/``~camera_pitch_deg``.
+"""
+import rospy
+import tf2_ros
+from sensor_msgs.msg import CameraInfo, Image, LaserScan
+
+from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
+from can_seeker.nodes.image_converter_node import IMAGE_BUFF_SIZE, image_msg
+from can_seeker.params import read_params
+from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
+from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
+from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
+from can_seeker.vision.report import PARAMS as DETECTOR_NODE_PARAMS
+from can_seeker.vision.report import fallback_pose
+
+FALLBACK_POSE_PARAMS = tuple(spec for spec in DETECTOR_NODE_PARAMS
+                             if spec.name in ('camera_height', 'camera_pitch_deg'))
+PARAMS = FLOOR_PARAMS + SCAN_PARAMS + FALLBACK_POSE_PARAMS
+
+ERROR_PERIOD_S = 5.0
+POSE_REFRESH_S = 1.0
+"""The camera mount is static: its TF pose is looked up again at most this often (s)."""
+
+
+class ObstacleScanNode:
+    def __init__(self):
+        self.config = read_params(PARAMS, rospy.get_param, rospy.logwarn)
+        self.scanner = CameraScanner(FloorSettings.from_values(self.config),
+                                     self.config.max_range, self.config.exclude_can)
+        self.fallback_pose = fallback_pose(self.config.camera_height,
+                                           self.config.camera_pitch_deg)
+        self.intrinsics = None
+        self.pose = None
+        self.pose_frame = None
+        self.pose_time = None
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.scan_pub = rospy.Publisher('camera_scan', LaserScan, queue_size=1)
+        self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
+        self.obstacles_pub = rospy.Publisher('~obstacles', Image, queue_size=1)
+        rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
+        rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE)
+
+    def on_camera_info(self, msg):
+        try:
+            self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
+        except ValueError as error:
+            rospy.logerr_throttle(ERROR_PERIOD_S, 'obstacle_scan: ignoring camera_info: %s'
+                                  % error)
+
+    def camera_pose(self, frame_id):
+        """The camera pose in ~scan_frame: cached TF, refreshed once a second, else fallback."""
+        now = rospy.get_rostime()
+        fresh = (self.pose is not None and frame_id == self.pose_frame
+                 and abs((now - self.pose_time).to_sec()) < POSE_REFRESH_S)
+        if fresh:
+            return self.pose
+        try:
+            transform = self.tf_buffer.lookup_transform(
+                self.config.scan_frame, frame_id, rospy.Time(0)).transform
+            self.pose = camera_pose_from_transform(
+                (transform.translation.x, transform.translation.y, transform.translation.z),
+                (transform.rotation.x, transform.rotation.y, transform.rotation.z,
+                 transform.rotation.w))
+            self.pose_frame, self.pose_time = frame_id, now
+            return self.pose
+        except (tf2_ros.TransformException, ValueError) as error:
+            if self.pose is not None and frame_id == self.pose_frame:
+                return self.pose
+            rospy.logwarn_throttle(ERROR_PERIOD_S, 'obstacle_scan: no camera pose from TF '
+                                   '(%s); %s' % (error, 'using ~camera_height and '
+                                                 '~camera_pitch_deg' if self.fallback_pose
+                                                 else 'no scan until TF has it'))
+            return self.fallback_pose
+
+    def camera_intrinsics(self, msg):
+        intrinsics = self.intrinsics
+        if intrinsics is None:
+            rospy.logwarn_throttle(ERROR_PERIOD_S, 'obstacle_scan: no camera_info yet: no scan')
+        elif (intrinsics.width, intrinsics.height) != (msg.width, msg.height):
+            rospy.logerr_throttle(ERROR_PERIOD_S, 'obstacle_scan: camera_info is %dx%d but the '
+                                  'image is %dx%d: no scan' % (intrinsics.width, intrinsics.height,
+                                                               msg.width, msg.height))
+            return None
+        return intrinsics
+
+    def on_image(self, msg):
+        try:
+            bgr = decode_image_msg(msg)
+        except ImageDecodeError as error:
+            kind = 'no colour' if isinstance(error, NoColourError) else 'skipping frame'
+            rospy.logerr_throttle_identical(ERROR_PERIOD_S, 'obstacle_scan: %s: %s'
+                                            % (kind, error))
+            return
+        intrinsics = self.camera_intrinsics(msg)
+        pose = self.camera_pose(msg.header.frame_id.lstrip('/')) if intrinsics else None
+        result = self.scanner.scan(bgr, pose, intrinsics)
+        if result.ranges is not None:
+            self.publish_scan(msg.header.stamp, result.ranges)
+        elif intrinsics is not None and pose is not None:
+            rospy.logwarn_throttle(ERROR_PERIOD_S, 'obstacle_scan: the camera sees no floor '
+                                   'within ~max_range: no scan')
+        if self.obstacles_pub.get_num_connections() > 0:
+            self.obstacles_pub.publish(image_msg(msg.header, result.obstacles, 'mono8'))
+        if self.annotated_pub.get_num_connections() > 0:
+            annotated = draw_obstacles(bgr, result, self.scanner.floor.reference_corners)
+            self.annotated_pub.publish(image_msg(msg.header, annotated, 'bgr8'))
+
+    def publish_scan(self, stamp, ranges):
+        geometry = self.scanner.geometry
+        scan = LaserScan(angle_min=geometry.angle_min, angle_max=geometry.angle_max,
+                         angle_increment=geometry.angle_increment, time_increment=0.0,
+                         scan_time=0.0, range_min=geometry.range_min,
+                         range_max=geometry.range_max, ranges=ranges.tolist())
+        scan.header.stamp = stamp
+        scan.header.frame_id = self.config.scan_frame
+        self.scan_pub.publish(scan)
+
+
+def main():
+    rospy.init_node('obstacle_scan')
+    ObstacleScanNode()
+    rospy.spin()

@@ -1,0 +1,239 @@
+"""Camera obstacle scan: the floor/obstacle mask of one image -> a planar laser scan.
+
+For every image column the lowest obstacle pixel (scanning up from the bottom through floor
+pixels) marks where the obstacle stands on the floor; the floor ray through that pixel's lower
+edge gives the point (camera_geometry.floor_point, vectorised here). The points are binned by
+their angle about the scan frame's origin (a frame on the floor, z up, e.g. base_link), each
+bin keeping its nearest point, as depthimage_to_laserscan does for depth images.
+
+Conventions (REP-117): ranges are horizontal distances (m) from the scan frame's origin to
+the obstacle's base; +inf where the camera sees floor up to the scan's range_max (nothing in
+view); angles span the camera's view as seen from that origin, increasing to the left
+(REP-103). range_max is the farthest floor distance in view (capped by ``max_range``);
+range_min the nearest. An obstacle already at the image's bottom edge is reported at the
+bottom row's floor distance: it is at most that far.
+"""
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import cv2
+import numpy as np
+
+from can_seeker.camera_geometry import CameraIntrinsics, CameraPose
+from can_seeker.params import Param
+from can_seeker.vision.detector import Blob, RedCanDetector
+from can_seeker.vision.floor import FLOOR_PARAMS, FloorClassifier, FloorSettings
+
+SCAN_PARAMS = (
+    Param('max_range', 4.0, 'obstacles standing farther than this from the scan frame origin '
+          'are not reported; also caps the scan\'s range_max (m)', 0.1, 100.0),
+    Param('scan_frame', 'base_link', 'frame of the scan, on the floor with z up (REP-103); the '
+          'camera pose is looked up in TF from it'),
+    Param('exclude_can', True, 'the red can (the detector\'s largest red blob, with its lid, '
+          'base and band) is the target, not an obstacle'),
+)
+CAN_MARGIN = 0.2
+"""The can's box is widened by this fraction of its height up and down (lid, base) and of its
+width sideways, so a can's silver rims and white band are not obstacles either."""
+
+
+@dataclass(frozen=True)
+class ScanGeometry:
+    """Per-pixel floor geometry of one camera pose and image size, in the scan frame.
+
+    ``range_m``/``angle_rad`` (H x W) are the range and angle of the floor point under each
+    pixel's lower edge (NaN where the ray misses the floor or is beyond ``range_max``);
+    ``edge_angle_rad`` (H x W+1) the angles at the pixels' left/right edges. Scan bins are
+    ``angle_min + i * angle_increment`` (rad), ``bins`` of them.
+    """
+
+    range_m: np.ndarray
+    angle_rad: np.ndarray
+    edge_angle_rad: np.ndarray
+    in_range: np.ndarray
+    angle_min: float
+    angle_increment: float
+    bins: int
+    range_min: float
+    range_max: float
+
+    @property
+    def angle_max(self) -> float:
+        return self.angle_min + (self.bins - 1) * self.angle_increment
+
+
+def _floor_polar(pose: CameraPose, intrinsics: CameraIntrinsics, u, v):
+    """(range, angle) arrays of the floor points under pixel coordinates (u, v) (px)."""
+    rays = np.stack(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy,
+                     np.ones_like(u)), axis=-1) @ pose.rotation.T
+    with np.errstate(divide='ignore', invalid='ignore'):
+        scale = np.where(rays[..., 2] < 0.0, -pose.height_m / rays[..., 2], np.nan)
+    x = pose.position[0] + scale * rays[..., 0]
+    y = pose.position[1] + scale * rays[..., 1]
+    return np.hypot(x, y), np.arctan2(y, x)
+
+
+def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
+                  max_range_m: float) -> Optional[ScanGeometry]:
+    """The floor geometry of the image, or None when the camera sees no floor within range."""
+    if pose is None or intrinsics is None or pose.height_m <= 0.0:
+        return None
+    width, height = intrinsics.width, intrinsics.height
+    columns = np.arange(width, dtype=np.float64)
+    rows = np.arange(height, dtype=np.float64) + 0.5
+    u, v = np.meshgrid(columns, rows)
+    range_m, angle = _floor_polar(pose, intrinsics, u, v)
+    edge_u, edge_v = np.meshgrid(np.arange(width + 1, dtype=np.float64) - 0.5, rows)
+    edge_range, edge_angle = _floor_polar(pose, intrinsics, edge_u, edge_v)
+    in_range = np.isfinite(range_m) & (range_m <= max_range_m)
+    edge_in_range = np.isfinite(edge_range) & (edge_range <= max_range_m)
+    if not in_range.any():
+        return None
+    edge_angles = edge_angle[edge_in_range]
+    angle_min, angle_max = float(edge_angles.min()), float(edge_angles.max())
+    # One bin per column at the optical centre: the columns' mean angular width there.
+    centre_row = min(height - 1, max(0, int(round(intrinsics.cy))))
+    centre_edges = edge_angle[centre_row]
+    if np.isfinite(centre_edges).all():
+        increment = abs(float(centre_edges[0] - centre_edges[-1])) / width
+    else:
+        increment = (angle_max - angle_min) / width
+    bins = max(1, int(math.ceil((angle_max - angle_min) / increment)))
+    return ScanGeometry(np.where(in_range, range_m, np.nan), np.where(in_range, angle, np.nan),
+                        np.where(edge_in_range, edge_angle, np.nan), in_range,
+                        angle_min + increment / 2.0, increment, bins,
+                        float(np.nanmin(range_m[in_range])),
+                        float(np.nanmax(range_m[in_range])))
+
+
+def lowest_obstacle_rows(obstacles: np.ndarray, in_range: np.ndarray) -> np.ndarray:
+    """Per column, the lowest row (px) holding an obstacle pixel within range, -1 if none."""
+    candidates = (obstacles > 0) & in_range
+    from_bottom = np.argmax(candidates[::-1], axis=0)
+    rows = candidates.shape[0] - 1 - from_bottom
+    return np.where(candidates.any(axis=0), rows, -1)
+
+
+def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray) -> np.ndarray:
+    """LaserScan ranges (m, float32; +inf = no obstacle in view) from per-column obstacle rows.
+
+    Each column's base point covers the bins between the angles of its left and right pixel
+    edges (at least the bin of its centre), so a wall gives a scan without gaps.
+    """
+    ranges = np.full(geometry.bins, np.inf, np.float64)
+    columns = np.flatnonzero(obstacle_rows >= 0)
+    if columns.size == 0:
+        return ranges.astype(np.float32)
+    rows = obstacle_rows[columns]
+    point_range = geometry.range_m[rows, columns]
+    edges = np.stack((geometry.edge_angle_rad[rows, columns],
+                      geometry.edge_angle_rad[rows, columns + 1]))
+    centre = (geometry.angle_rad[rows, columns] - geometry.angle_min) / geometry.angle_increment
+    first = np.ceil((np.nanmin(edges, axis=0) - geometry.angle_min) / geometry.angle_increment)
+    last = np.floor((np.nanmax(edges, axis=0) - geometry.angle_min) / geometry.angle_increment)
+    nearest = np.round(centre)
+    first = np.where(np.isfinite(first), np.minimum(first, nearest), nearest)
+    last = np.where(np.isfinite(last), np.maximum(last, nearest), nearest)
+    first = np.clip(first, 0, geometry.bins - 1).astype(np.int64)
+    last = np.clip(last, 0, geometry.bins - 1).astype(np.int64)
+    for offset in range(int((last - first).max()) + 1):
+        covered = first + offset <= last
+        np.minimum.at(ranges, first[covered] + offset, point_range[covered])
+    return ranges.astype(np.float32)
+
+
+def can_region(shape, blob: Blob) -> np.ndarray:
+    """mono8 of the image ``shape``, 255 over the target can: its box widened by CAN_MARGIN."""
+    height, width = shape[:2]
+    region = np.zeros((height, width), np.uint8)
+    margin_x = int(math.ceil(CAN_MARGIN * blob.width))
+    margin_y = int(math.ceil(CAN_MARGIN * blob.height))
+    cv2.rectangle(region, (max(0, blob.x - margin_x), max(0, blob.y - margin_y)),
+                  (min(width - 1, blob.x + blob.width - 1 + margin_x),
+                   min(height - 1, blob.y + blob.height - 1 + margin_y)), 255, cv2.FILLED)
+    return region
+
+
+@dataclass
+class CameraScan:
+    """One frame's result: obstacle mask (mono8), per-column base rows (px, -1 = none),
+    scan ranges (m; None when the camera geometry is unknown), the can region (or None)."""
+
+    obstacles: np.ndarray
+    obstacle_rows: np.ndarray
+    ranges: Optional[np.ndarray]
+    can: Optional[np.ndarray]
+
+
+class CameraScanner:
+    """BGR images + camera geometry -> obstacle masks and scans; caches the geometry tables."""
+
+    def __init__(self, floor_settings: Optional[FloorSettings] = None, max_range_m: float = 4.0,
+                 exclude_can: bool = True, can_detector: Optional[RedCanDetector] = None):
+        self.floor = FloorClassifier(floor_settings)
+        self.max_range_m = max_range_m
+        self.exclude_can = exclude_can
+        self.can_detector = can_detector if can_detector is not None else RedCanDetector()
+        self._geometry_key = None
+        self.geometry = None
+
+    def geometry_for(self, pose: Optional[CameraPose],
+                     intrinsics: Optional[CameraIntrinsics]) -> Optional[ScanGeometry]:
+        """The scan geometry of this pose and intrinsics (recomputed only when they change)."""
+        key = None if pose is None or intrinsics is None else (
+            tuple(pose.position), pose.rotation.tobytes(), intrinsics)
+        if key != self._geometry_key:
+            self.geometry = None if key is None else scan_geometry(pose, intrinsics,
+                                                                   self.max_range_m)
+            self._geometry_key = key
+        return self.geometry
+
+    def scan(self, bgr: np.ndarray, pose: Optional[CameraPose],
+             intrinsics: Optional[CameraIntrinsics]) -> CameraScan:
+        """Classify the frame and, with a known camera geometry of the same size, scan it."""
+        can = None
+        if self.exclude_can:
+            result = self.can_detector.detect(bgr)
+            if result.blob is not None:
+                can = can_region(bgr.shape, result.blob)
+        obstacles = self.floor.classify(bgr, can)
+        geometry = self.geometry_for(pose, intrinsics)
+        if geometry is None or geometry.range_m.shape != obstacles.shape:
+            rows = lowest_obstacle_rows(obstacles, np.ones(obstacles.shape, bool))
+            return CameraScan(obstacles, rows, None, can)
+        rows = lowest_obstacle_rows(obstacles, geometry.in_range)
+        return CameraScan(obstacles, rows, scan_ranges(geometry, rows), can)
+
+
+OBSTACLE_TINT_BGR = (255, 0, 255)
+BASE_BGR = (0, 255, 255)
+REFERENCE_BGR = (0, 200, 0)
+CAN_BGR = (0, 0, 255)
+
+
+def draw_obstacles(bgr: np.ndarray, result: CameraScan, reference_corners=None) -> np.ndarray:
+    """A new BGR image: obstacles tinted magenta with their outlines, each column's obstacle
+    base as a yellow dot, the floor reference area in green and the excluded can in red."""
+    annotated = bgr.copy()
+    tinted = annotated.copy()
+    tinted[result.obstacles > 0] = OBSTACLE_TINT_BGR
+    cv2.addWeighted(tinted, 0.4, annotated, 0.6, 0, dst=annotated)
+    contours, _ = cv2.findContours(result.obstacles, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+    cv2.drawContours(annotated, contours, -1, OBSTACLE_TINT_BGR, 1)
+    columns = np.flatnonzero(result.obstacle_rows >= 0)
+    annotated[result.obstacle_rows[columns], columns] = BASE_BGR
+    if reference_corners is not None:
+        cv2.polylines(annotated, [reference_corners.reshape(-1, 1, 2)], True, REFERENCE_BGR, 1)
+    if result.can is not None:
+        can_contours, _ = cv2.findContours(result.can, cv2.RETR_EXTERNAL,
+                                           cv2.CHAIN_APPROX_SIMPLE)
+        cv2.drawContours(annotated, can_contours, -1, CAN_BGR, 1)
+    if result.ranges is not None:
+        finite = result.ranges[np.isfinite(result.ranges)]
+        label = 'nearest %.2f m' % finite.min() if finite.size else 'no obstacle in view'
+        scale = max(0.35, annotated.shape[0] / 480.0)
+        cv2.putText(annotated, label, (int(8 * scale), annotated.shape[0] - int(10 * scale)),
+                    cv2.FONT_HERSHEY_SIMPLEX, 0.6 * scale, (255, 255, 255), 1, cv2.LINE_AA)
+    return annotated
+

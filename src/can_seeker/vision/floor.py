@@ -1,0 +1,226 @@
+"""Which pixels are floor: an adaptive floor appearance model, and the tutorial's dark threshold.
+
+The adaptive model follows Ulrich & Nourbakhsh 2000 ("Appearance-Based Obstacle Detection with
+Monocular Color Vision"): a reference trapezoid at the bottom of the image, just in front of the
+robot, is assumed to be floor; its pixels fill a colour histogram (hue, or "grey" for pixels
+too pale or dark to have a hue) and an intensity histogram. A pixel whose colour or intensity
+bin is rare in the model is an obstacle, whatever the floor's colour, so light obstacles on a
+dark floor are found as well as dark ones on a light floor, and a textured floor, whose
+histograms are wide, is tolerated. The model adapts over frames with the reference pixels it
+classifies as floor; when too much of the reference area looks like an obstacle (something
+stands right in front of the robot) the frame does not update the model at all. An obstacle
+is therefore never learned as floor, and a floor colour never seen in the reference area
+stays an obstacle.
+
+The baseline, ``dark``, is the tutorial's: every pixel darker than a grey level is an obstacle.
+Both remove speckles and keep the obstacle contours above a minimum area (filled).
+"""
+from dataclasses import dataclass
+from typing import Optional
+
+import cv2
+import numpy as np
+
+from can_seeker.params import Param
+
+FLOOR_MODELS = ('adaptive', 'dark')
+
+HUE_BINS = 30
+"""Colour histogram bins over OpenCV's hue (0-179): 12 degrees each; bin HUE_BINS is grey."""
+GREY_BIN = HUE_BINS
+VALUE_BINS = 32
+"""Intensity histogram bins over HSV value 0-255: 8 grey levels each."""
+CHROMA_SATURATION_MIN = 50
+"""Pixels less saturated than this (0-255) have no reliable hue: they count as grey."""
+CHROMA_VALUE_MIN = 40
+"""Pixels darker than this (0-255) have no reliable hue: they count as grey."""
+BIN_TOLERANCE = 1
+"""A pixel is floor-like when its bin or a neighbour (hue wraps around) is common in the model:
+tolerates shading across the floor."""
+
+FLOOR_PARAMS = (
+    Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
+          'learned from the reference area in front of the robot) or dark (the tutorial: '
+          'pixels darker than ~dark_threshold are obstacles)', choices=FLOOR_MODELS),
+    Param('dark_threshold', 60, 'grey level below which a pixel is an obstacle when '
+          '~floor_model is dark (0-255)', 0, 255),
+    Param('min_bin_fraction', 0.004, 'a colour or intensity histogram bin holding less than '
+          'this fraction of the floor model marks its pixels as obstacles (1)', 0.0, 1.0),
+    Param('adapt_rate', 0.01, 'weight of each frame\'s reference floor pixels in the floor '
+          'model (1 per frame; 0 = keep the first frame\'s model)', 0.0, 1.0),
+    Param('reference_height', 0.2, 'height of the reference trapezoid at the bottom of the '
+          'image that is assumed to be floor, as a fraction of the image height (1)', 0.02, 1.0),
+    Param('suspect_fraction', 0.3, 'the floor model is not updated from a frame whose '
+          'reference area is more than this fraction obstacle pixels (1)', 0.0, 1.0),
+    Param('min_obstacle_area', 0.001, 'obstacle regions smaller than this fraction of the image '
+          'area are ignored as noise (1)', 0.0, 1.0),
+)
+
+
+@dataclass(frozen=True)
+class FloorSettings:
+    """Validated settings of :class:`FloorClassifier` (see FLOOR_PARAMS for units)."""
+
+    floor_model: str = 'adaptive'
+    dark_threshold: int = 60
+    min_bin_fraction: float = 0.004
+    adapt_rate: float = 0.01
+    reference_height: float = 0.2
+    suspect_fraction: float = 0.3
+    min_obstacle_area: float = 0.001
+
+    @classmethod
+    def from_values(cls, values):
+        """Settings from any object with one attribute per FLOOR_PARAMS name."""
+        return cls(**{spec.name: getattr(values, spec.name) for spec in FLOOR_PARAMS})
+
+
+def reference_trapezoid(width: int, height: int, height_fraction: float) -> np.ndarray:
+    """Corners (px, int32) of the reference area: the bottom ``height_fraction`` of the image,
+    90 % of the width at the bottom narrowing to 50 % at the top, like the floor in front of a
+    robot seen in perspective."""
+    top = int(round((height - 1) * (1.0 - height_fraction)))
+    bottom = height - 1
+    centre = (width - 1) / 2.0
+    return np.array(((centre - 0.45 * width, bottom), (centre + 0.45 * width, bottom),
+                     (centre + 0.25 * width, top), (centre - 0.25 * width, top)),
+                    np.float64).round().astype(np.int32)
+
+
+def _hue_bin_lut() -> np.ndarray:
+    hues = np.arange(256)
+    return np.where(hues < 180, hues * HUE_BINS // 180, 0).astype(np.uint8)
+
+
+HUE_BIN_LUT = _hue_bin_lut()
+VALUE_BIN_LUT = (np.arange(256) * VALUE_BINS // 256).astype(np.uint8)
+
+
+def _tolerant(common: np.ndarray, wrap: bool) -> np.ndarray:
+    """Bins within BIN_TOLERANCE of a common bin (hue bins wrap around 0/179)."""
+    widened = common.copy()
+    for shift in range(1, BIN_TOLERANCE + 1):
+        if wrap:
+            widened |= np.roll(common, shift) | np.roll(common, -shift)
+        else:
+            widened[shift:] |= common[:-shift]
+            widened[:-shift] |= common[shift:]
+    return widened
+
+
+class FloorClassifier:
+    """Per-frame floor / obstacle classification of BGR images (keeps the floor model).
+
+    Not thread-safe: one frame at a time. The model is learned from the first frame and kept
+    while the image size stays the same.
+    """
+
+    def __init__(self, settings: Optional[FloorSettings] = None):
+        self.settings = settings if settings is not None else FloorSettings()
+        self._shape = None
+        self.colour_model = None
+        self.value_model = None
+        self.model_updated = False
+
+    def reset(self):
+        """Forget the floor model: the next frame's reference area is learned afresh."""
+        self.colour_model = None
+        self.value_model = None
+
+    def _prepare(self, shape):
+        if shape == self._shape:
+            return
+        height, width = shape[:2]
+        self._reference = np.zeros((height, width), np.uint8)
+        corners = reference_trapezoid(width, height, self.settings.reference_height)
+        cv2.fillConvexPoly(self._reference, corners, 255)
+        self.reference_corners = corners
+        self._reference_pixels = self._reference > 0
+        self._shape = shape
+        self.reset()
+
+    def classify(self, bgr: np.ndarray, ignore: Optional[np.ndarray] = None) -> np.ndarray:
+        """mono8 mask, 255 where a pixel belongs to an obstacle region, 0 on the floor.
+
+        ``ignore`` (mono8, nonzero = ignore) marks pixels that are neither floor nor obstacle,
+        e.g. the target can: they are never obstacles and never teach the floor model.
+        """
+        self._prepare(bgr.shape)
+        if self.settings.floor_model == 'dark':
+            grey = cv2.cvtColor(bgr, cv2.COLOR_BGR2GRAY)
+            raw = np.where(grey < self.settings.dark_threshold, 255, 0).astype(np.uint8)
+            self.model_updated = False
+        else:
+            raw = self._appearance_obstacles(bgr, ignore)
+        if ignore is not None:
+            raw[ignore > 0] = 0
+        return self._obstacle_regions(raw)
+
+    def _features(self, bgr):
+        """(colour bin, intensity bin) images of ``bgr``."""
+        hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
+        hue, saturation, value = cv2.split(hsv)
+        colour = cv2.LUT(hue, HUE_BIN_LUT)
+        grey = (saturation < CHROMA_SATURATION_MIN) | (value < CHROMA_VALUE_MIN)
+        colour[grey] = GREY_BIN
+        return colour, cv2.LUT(value, VALUE_BIN_LUT)
+
+    @staticmethod
+    def _histogram(bins, where, length):
+        counts = np.bincount(bins[where], minlength=length).astype(np.float64)
+        total = counts.sum()
+        return counts / total if total > 0 else None
+
+    def _appearance_obstacles(self, bgr, ignore):
+        colour, value = self._features(bgr)
+        reference = self._reference_pixels
+        if ignore is not None:
+            reference = reference & (ignore == 0)
+        if self.colour_model is None:
+            self.colour_model = self._histogram(colour, reference, GREY_BIN + 1)
+            self.value_model = self._histogram(value, reference, VALUE_BINS)
+            if self.colour_model is None or self.value_model is None:
+                self.reset()
+                self.model_updated = False
+                return np.zeros(bgr.shape[:2], np.uint8)
+        threshold = self.settings.min_bin_fraction
+        colour_floor = np.zeros(256, bool)
+        colour_floor[:HUE_BINS] = _tolerant(self.colour_model[:HUE_BINS] >= threshold, True)
+        colour_floor[GREY_BIN] = self.colour_model[GREY_BIN] >= threshold
+        value_floor = np.zeros(256, bool)
+        value_floor[:VALUE_BINS] = _tolerant(self.value_model >= threshold, False)
+        obstacle_table = np.where(colour_floor, 0, 255).astype(np.uint8)
+        raw = cv2.LUT(colour, obstacle_table)
+        cv2.bitwise_or(raw, cv2.LUT(value, np.where(value_floor, 0, 255).astype(np.uint8)),
+                       dst=raw)
+        self._update_model(colour, value, raw, reference)
+        return raw
+
+    def _update_model(self, colour, value, raw, reference):
+        """Blend the reference area's floor pixels into the model unless the area is suspect."""
+        self.model_updated = False
+        rate = self.settings.adapt_rate
+        in_reference = int(np.count_nonzero(reference))
+        if rate <= 0.0 or in_reference == 0:
+            return
+        floor = reference & (raw == 0)
+        floor_count = int(np.count_nonzero(floor))
+        if floor_count == 0 or 1.0 - floor_count / in_reference > self.settings.suspect_fraction:
+            return
+        colour_new = self._histogram(colour, floor, GREY_BIN + 1)
+        value_new = self._histogram(value, floor, VALUE_BINS)
+        self.colour_model = (1.0 - rate) * self.colour_model + rate * colour_new
+        self.value_model = (1.0 - rate) * self.value_model + rate * value_new
+        self.model_updated = True
+
+    def _obstacle_regions(self, raw):
+        """Speckles opened away; outer contours of at least the minimum area, filled."""
+        opened = cv2.morphologyEx(raw, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
+        contours, _ = cv2.findContours(opened, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+        min_area_px = self.settings.min_obstacle_area * raw.shape[0] * raw.shape[1]
+        kept = [contour for contour in contours if cv2.contourArea(contour) >= min_area_px]
+        self.contours = kept
+        regions = np.zeros_like(raw)
+        if kept:
+            cv2.drawContours(regions, kept, -1, 255, cv2.FILLED)
+        return regions

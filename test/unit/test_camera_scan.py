@@ -1,0 +1,181 @@
+"""Camera scan: per-column obstacle bases -> LaserScan ranges, on synthetic masks and on images
+rendered by the simulator's pybullet world with obstacles of known geometry."""
+import math
+import pathlib
+
+import numpy as np
+import pybullet
+import pytest
+
+from can_seeker.camera_geometry import (camera_pose_from_mount, floor_point,
+                                        intrinsics_from_vertical_fov)
+from can_seeker.camera_mount import CameraMount
+from can_seeker.sim.world import CameraSpec, World
+from can_seeker.vision.camera_scan import (CameraScanner, draw_obstacles, lowest_obstacle_rows,
+                                           scan_geometry, scan_ranges)
+from can_seeker.vision.floor import FloorSettings
+
+URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
+MOUNT = CameraMount(0.25, 25.0)
+WIDTH, HEIGHT = 320, 240
+POSE = camera_pose_from_mount(MOUNT)
+INTRINSICS = intrinsics_from_vertical_fov(WIDTH, HEIGHT, 45.0)
+
+
+def bin_angles(geometry):
+    return geometry.angle_min + np.arange(geometry.bins) * geometry.angle_increment
+
+
+def test_geometry_spans_the_view_and_the_visible_floor():
+    geometry = scan_geometry(POSE, INTRINSICS, 4.0)
+    half_fov = math.atan((WIDTH / 2) / INTRINSICS.fx)
+    assert -half_fov <= geometry.angle_min < -0.9 * half_fov
+    assert 0.9 * half_fov < geometry.angle_max <= half_fov
+    assert geometry.bins == pytest.approx(WIDTH, abs=3)
+    bottom = floor_point(POSE, INTRINSICS, INTRINSICS.cx, HEIGHT - 0.5)
+    assert geometry.range_min == pytest.approx(math.hypot(*bottom), abs=1e-6)
+    assert 3.9 < geometry.range_max <= 4.0
+    assert scan_geometry(POSE, INTRINSICS, 0.1) is None
+    level = camera_pose_from_mount(CameraMount(0.25, -30.0))
+    assert scan_geometry(level, INTRINSICS, 4.0) is None
+
+
+def test_column_base_range_is_the_floor_ray_of_its_lower_edge():
+    geometry = scan_geometry(POSE, INTRINSICS, 4.0)
+    obstacles = np.zeros((HEIGHT, WIDTH), np.uint8)
+    obstacles[50:130, 200:210] = 255     # obstacle standing on row 129
+    obstacles[20:40, 205:206] = 255      # something farther up the same column: hidden
+    rows = lowest_obstacle_rows(obstacles, geometry.in_range)
+    assert rows[205] == 129 and rows[100] == -1
+    ranges = scan_ranges(geometry, rows)
+    x, y = floor_point(POSE, INTRINSICS, 205.0, 129.5)
+    angle = math.atan2(y, x)
+    index = int(round((angle - geometry.angle_min) / geometry.angle_increment))
+    assert ranges[index] == pytest.approx(math.hypot(x, y), rel=0.01)
+    covered = np.flatnonzero(np.isfinite(ranges))
+    assert covered.size == pytest.approx(10, abs=2)
+    assert np.all(np.diff(covered) == 1)
+    assert np.all(bin_angles(geometry)[covered] < 0.0)   # right of the optical axis
+
+
+def test_bottom_row_obstacle_is_at_most_the_nearest_floor_and_far_ones_are_cut():
+    geometry = scan_geometry(POSE, INTRINSICS, 2.0)
+    obstacles = np.zeros((HEIGHT, WIDTH), np.uint8)
+    obstacles[150:, :100] = 255
+    obstacles[:10, 200:] = 255           # beyond 2 m
+    ranges = scan_ranges(geometry, lowest_obstacle_rows(obstacles, geometry.in_range))
+    left, right = ranges[bin_angles(geometry) > 0.1], ranges[bin_angles(geometry) < -0.1]
+    assert np.all(np.isinf(right))     # image columns >= 200: only obstacles beyond 2 m
+    assert np.min(left) >= geometry.range_min - 1e-6
+    assert np.min(left) < geometry.range_min + 0.1
+
+
+# Rendered scenes: boxes (centre x, y, half sizes x, y, height) and cylinders (x, y, radius,
+# height) on a uniform floor, in base_link of the robot at the origin.
+BOXES = ((2.3, -0.2, 0.1, 0.6, 0.4), (1.1, 0.45, 0.15, 0.1, 0.25))
+CYLINDERS = ((1.7, -0.55, 0.12, 0.3),)
+
+
+def ray_to_obstacles(angle_rad):
+    """Distance (m) from the origin along a floor ray to the nearest obstacle footprint."""
+    direction = np.array((math.cos(angle_rad), math.sin(angle_rad)))
+    best = math.inf
+    for x, y, half_x, half_y, _ in BOXES:
+        with np.errstate(divide='ignore'):
+            low = (np.array((x - half_x, y - half_y))) / direction
+            high = (np.array((x + half_x, y + half_y))) / direction
+        near, far = np.max(np.minimum(low, high)), np.min(np.maximum(low, high))
+        if near <= far and near > 0:
+            best = min(best, near)
+    for x, y, radius, _ in CYLINDERS:
+        along = direction @ (x, y)
+        miss = (x * x + y * y) - along * along
+        if miss <= radius * radius and along > 0:
+            best = min(best, along - math.sqrt(radius * radius - miss))
+    return best
+
+
+@pytest.fixture(scope='module')
+def room():
+    """A world with the scene's obstacles, floor and obstacle colours set per test."""
+    with World(URDF, CameraSpec(WIDTH, HEIGHT, 45.0, MOUNT)) as world:
+        client = world._client
+        bodies = []
+        for x, y, half_x, half_y, height in BOXES:
+            shape = client.createVisualShape(pybullet.GEOM_BOX,
+                                             halfExtents=(half_x, half_y, height / 2))
+            bodies.append(client.createMultiBody(0, -1, shape, (x, y, height / 2)))
+        for x, y, radius, height in CYLINDERS:
+            shape = client.createVisualShape(pybullet.GEOM_CYLINDER, radius=radius,
+                                             length=height)
+            bodies.append(client.createMultiBody(0, -1, shape, (x, y, height / 2)))
+        world.place_can(8.0, 8.0)
+
+        def paint(floor_rgba, obstacle_rgba):
+            client.changeVisualShape(0, -1, rgbaColor=floor_rgba, textureUniqueId=-1)
+            for body in bodies:
+                client.changeVisualShape(body, -1, rgbaColor=obstacle_rgba)
+            return world
+
+        yield paint
+
+
+@pytest.mark.parametrize('floor,obstacle', [
+    ((0.75, 0.72, 0.65, 1), (0.12, 0.12, 0.12, 1)),   # dark obstacles on a light floor
+    ((0.15, 0.13, 0.12, 1), (0.85, 0.85, 0.8, 1)),    # light obstacles on a dark floor
+    ((0.3, 0.45, 0.6, 1), (0.6, 0.45, 0.3, 1)),       # colour contrast only
+])
+def test_rendered_scan_matches_the_obstacle_geometry(room, floor, obstacle):
+    image = room(floor, obstacle).render()
+    scanner = CameraScanner()
+    result = scanner.scan(image, POSE, INTRINSICS)
+    angles = bin_angles(scanner.geometry)
+    truth = np.array([ray_to_obstacles(angle) for angle in angles])
+    near = truth <= 2.5
+    seen = near & np.isfinite(result.ranges)
+    assert seen.sum() >= 0.9 * near.sum()
+    error = np.abs(result.ranges[seen] - truth[seen]) / truth[seen]
+    assert np.median(error) < 0.02
+    assert np.percentile(error, 90) < 0.06
+    # Free directions (not within 0.03 rad of an obstacle's side, where the silhouette of a
+    # pitched camera's view of a tall obstacle leans past its footprint) are +inf.
+    free = np.convolve(np.isfinite(truth), np.ones(27), 'same') == 0
+    assert free.sum() > 15
+    assert np.all(np.isinf(result.ranges[free]))
+    annotated = draw_obstacles(image, result, scanner.floor.reference_corners)
+    assert annotated.shape == image.shape and np.any(annotated != image)
+
+
+def test_red_can_is_not_an_obstacle_unless_told(room):
+    world = room((0.75, 0.72, 0.65, 1), (0.12, 0.12, 0.12, 1))
+    world.place_can(0.8, -0.1)
+    try:
+        image = world.render()
+    finally:
+        world.place_can(8.0, 8.0)
+    can_angle = math.atan2(-0.1, 0.8)
+    for exclude, expect_can in ((True, False), (False, True)):
+        scanner = CameraScanner(exclude_can=exclude)
+        ranges = scanner.scan(image, POSE, INTRINSICS).ranges
+        index = int(round((can_angle - scanner.geometry.angle_min)
+                          / scanner.geometry.angle_increment))
+        near_can = ranges[index - 2:index + 3]
+        assert np.any(np.abs(near_can - (math.hypot(0.8, 0.1) - 0.033)) < 0.05) == expect_can
+
+
+def test_nothing_in_view_is_free_everywhere(room):
+    world = room((0.75, 0.72, 0.65, 1), (0.12, 0.12, 0.12, 1))
+    world.place_can(-8.0, 8.0)
+    scanner = CameraScanner()
+    for floor_model in ('adaptive', 'dark'):
+        scanner.floor = type(scanner.floor)(FloorSettings(floor_model=floor_model))
+        # Look away from the obstacles: the camera pose turned by 180 degrees about z.
+        turned = type(POSE)(POSE.position, np.diag((-1.0, -1.0, 1.0)) @ POSE.rotation)
+        client = world._client
+        robot_yaw = pybullet.getQuaternionFromEuler((0.0, 0.0, math.pi))
+        client.resetBasePositionAndOrientation(world._robot, (0.0, 0.0, 0.05), robot_yaw)
+        image = world.render()
+        world.reset_robot()
+        ranges = scanner.scan(image, turned, INTRINSICS).ranges
+        assert np.all(np.isinf(ranges)), floor_model
+    world.place_can(8.0, 8.0)

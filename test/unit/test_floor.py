@@ -1,0 +1,120 @@
+"""Floor / obstacle classification on synthetic images: light and dark floors, texture,
+adaptation, and the tutorial's dark-threshold baseline."""
+import numpy as np
+import pytest
+
+from can_seeker.vision.floor import FloorClassifier, FloorSettings, reference_trapezoid
+
+WIDTH, HEIGHT = 320, 240
+BOX = (120, 60, 200, 140)
+"""An obstacle well above the reference area: x0, y0, x1, y1 (px, exclusive ends)."""
+
+
+def floor_image(floor_bgr, sigma=4.0, seed=0):
+    rng = np.random.default_rng(seed)
+    image = np.asarray(floor_bgr, np.float64) + rng.normal(0.0, sigma, (HEIGHT, WIDTH, 3))
+    return np.clip(image, 0, 255).astype(np.uint8)
+
+
+def with_box(image, colour, box=BOX):
+    x0, y0, x1, y1 = box
+    image = image.copy()
+    image[y0:y1, x0:x1] = colour
+    return image
+
+
+def box_recall_and_false_rate(mask, box=BOX, blur_px=2):
+    """Fraction of the box found as obstacle, fraction of the floor (farther than the
+    smoothing's reach ``blur_px`` from the box) wrongly marked."""
+    x0, y0, x1, y1 = box
+    inside = np.zeros(mask.shape, bool)
+    inside[y0:y1, x0:x1] = True
+    near = np.zeros(mask.shape, bool)
+    near[max(0, y0 - blur_px):y1 + blur_px, max(0, x0 - blur_px):x1 + blur_px] = True
+    return (mask[inside] > 0).mean(), (mask[~near] > 0).mean()
+
+
+@pytest.mark.parametrize('floor,obstacle', [
+    ((200, 200, 195), (40, 40, 40)),      # dark box on a light floor (the tutorial's case)
+    ((45, 40, 40), (220, 220, 215)),      # light box on a dark floor
+    ((60, 110, 160), (160, 110, 60)),     # blue box on a brown floor of the same brightness
+    ((150, 150, 150), (60, 170, 60)),     # green box on a grey floor
+])
+def test_adaptive_model_finds_obstacles_of_any_contrast(floor, obstacle):
+    mask = FloorClassifier().classify(with_box(floor_image(floor), obstacle))
+    recall, false_rate = box_recall_and_false_rate(mask)
+    assert recall > 0.98
+    assert false_rate < 0.002
+
+
+def test_textured_floor_is_floor():
+    """A fine two-colour carpet pattern with noise: both colours are floor, the box is not."""
+    rng = np.random.default_rng(3)
+    pattern = rng.random((HEIGHT // 4, WIDTH // 4)) < 0.5
+    pattern = np.kron(pattern, np.ones((4, 4), bool))
+    image = floor_image((90, 120, 150), sigma=8.0)
+    image[pattern] = floor_image((150, 160, 170), sigma=8.0, seed=1)[pattern]
+    mask = FloorClassifier().classify(with_box(image, (30, 30, 110)))
+    recall, false_rate = box_recall_and_false_rate(mask)
+    assert recall > 0.95
+    assert false_rate < 0.005
+
+
+def test_dark_baseline_misses_light_obstacles_on_a_dark_floor():
+    dark = FloorClassifier(FloorSettings(floor_model='dark'))
+    light_floor_mask = dark.classify(with_box(floor_image((200, 200, 195)), (40, 40, 40)))
+    assert box_recall_and_false_rate(light_floor_mask) == (pytest.approx(1.0), 0.0)
+    dark_floor_mask = dark.classify(with_box(floor_image((45, 40, 40)), (220, 220, 215)))
+    assert box_recall_and_false_rate(dark_floor_mask)[1] > 0.9
+
+
+def test_ignored_pixels_are_never_obstacles():
+    image = with_box(floor_image((200, 200, 195)), (40, 40, 40))
+    ignore = np.zeros((HEIGHT, WIDTH), np.uint8)
+    ignore[:, :160] = 255
+    mask = FloorClassifier().classify(image, ignore)
+    assert not mask[:, :160].any()
+    assert mask[60:140, 165:200].all()
+
+
+def test_small_specks_are_noise():
+    image = floor_image((200, 200, 195))
+    for x, y in ((50, 50), (100, 200), (300, 20), (160, 120)):
+        image[y:y + 2, x:x + 2] = 0
+    assert not FloorClassifier().classify(image).any()
+
+
+def reference_mask():
+    import cv2
+    mask = np.zeros((HEIGHT, WIDTH), np.uint8)
+    cv2.fillConvexPoly(mask, reference_trapezoid(WIDTH, HEIGHT, 0.2), 255)
+    return mask > 0
+
+
+def test_model_adapts_to_slow_lighting_changes():
+    classifier = FloorClassifier()
+    for step in range(80):
+        brightness = 200 - step
+        image = with_box(floor_image((brightness,) * 3, seed=step), (40, 40, 40))
+        mask = classifier.classify(image)
+    recall, false_rate = box_recall_and_false_rate(mask)
+    assert recall > 0.98 and false_rate < 0.002
+    assert FloorClassifier(FloorSettings(adapt_rate=0.0)).classify(
+        floor_image((200,) * 3)).sum() == 0
+
+
+def test_an_obstacle_in_the_reference_area_is_never_learned():
+    """A wall creeping into the bottom of the image stays an obstacle frame after frame."""
+    classifier = FloorClassifier()
+    classifier.classify(floor_image((200, 200, 195)))
+    reference = reference_mask()
+    for step in range(60):
+        bottom = 170 + step
+        image = with_box(floor_image((200, 200, 195), seed=step), (60, 60, 60),
+                         (0, 0, WIDTH, bottom))
+        mask = classifier.classify(image)
+        assert mask[:bottom - 1].all()
+        assert not mask[bottom + 2:].any()
+    in_reference = reference[:bottom].sum() / reference.sum()
+    assert in_reference > 0.3
+    assert not classifier.model_updated
