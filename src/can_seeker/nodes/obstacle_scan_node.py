@@ -6,6 +6,8 @@ with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``
 (mono8). The camera pose comes from TF (``~scan_frame`` <- image frame), cached and refreshed
 once a second, else from ``~camera_height``/``~camera_pitch_deg``.
 """
+import time
+
 import rospy
 import tf2_ros
 from sensor_msgs.msg import CameraInfo, Image, LaserScan
@@ -13,6 +15,7 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 from can_seeker.nodes.image_converter_node import IMAGE_BUFF_SIZE, image_msg
 from can_seeker.params import read_params
+from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
@@ -39,6 +42,7 @@ class ObstacleScanNode:
         self.pose = None
         self.pose_frame = None
         self.pose_time = None
+        self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.scan_pub = rospy.Publisher('camera_scan', LaserScan, queue_size=1)
@@ -93,11 +97,15 @@ class ObstacleScanNode:
     def on_image(self, msg):
         try:
             bgr = decode_image_msg(msg)
-        except ImageDecodeError as error:
-            kind = 'no colour' if isinstance(error, NoColourError) else 'skipping frame'
-            rospy.logerr_throttle_identical(ERROR_PERIOD_S, 'obstacle_scan: %s: %s'
-                                            % (kind, error))
+        except NoColourError as error:
+            rospy.logwarn_once('obstacle_scan: no scan from grey images: %s' % error)
             return
+        except ImageDecodeError as error:
+            self.log_decode_error(error)
+            return
+        # Subscribers come and go while a frame is processed: decide once what to build.
+        want_obstacles = self.obstacles_pub.get_num_connections() > 0
+        want_annotated = self.annotated_pub.get_num_connections() > 0
         intrinsics = self.camera_intrinsics(msg)
         pose = self.camera_pose(msg.header.frame_id.lstrip('/')) if intrinsics else None
         result = self.scanner.scan(bgr, pose, intrinsics)
@@ -106,11 +114,19 @@ class ObstacleScanNode:
         elif intrinsics is not None and pose is not None:
             rospy.logwarn_throttle(ERROR_PERIOD_S, 'obstacle_scan: the camera sees no floor '
                                    'within ~max_range: no scan')
-        if self.obstacles_pub.get_num_connections() > 0:
+        if want_obstacles:
             self.obstacles_pub.publish(image_msg(msg.header, result.obstacles, 'mono8'))
-        if self.annotated_pub.get_num_connections() > 0:
+        if want_annotated:
             annotated = draw_obstacles(bgr, result, self.scanner.floor.reference_corners)
             self.annotated_pub.publish(image_msg(msg.header, annotated, 'bgr8'))
+
+    def log_decode_error(self, error):
+        """One ERROR per kind of fault every ERROR_PERIOD_S, saying how many were held back."""
+        allowed, held_back = self.decode_errors.allow(error.kind, time.monotonic())
+        if allowed:
+            rospy.logerr('obstacle_scan: skipping frame: %s%s' % (
+                error, ' (%d more %s faults since the last report)' % (held_back, error.kind)
+                if held_back else ''))
 
     def publish_scan(self, stamp, ranges):
         geometry = self.scanner.geometry
