@@ -4,7 +4,10 @@ Part 1 times, on a synthetic floor scene with a red can, our pipeline (red mask,
 largest blob, moments, Canny edges, range and bearing) against the classic image_converter
 tutorial callback (HSV, inRange, bitwise_and, moments, Canny on grey, three half-size resizes)
 at 320x240, 640x480 and 1280x720, with OpenCV on one thread and on its default threads.
-Part 2 starts its own master on a free port and an image_converter node, publishes 640x480
+Part 2 times the camera obstacle scan (floor classification, can exclusion, per-column bases,
+scan bins) with the adaptive floor model and the tutorial's dark threshold, beside the
+tutorial's obstacle callback (grey, threshold, findContours, largest contour, boundingRect).
+Part 3 starts its own master on a free port and an image_converter node, publishes 640x480
 bgr8 frames at 30 Hz and then as fast as possible, and measures stamp -> detection received.
 The numbers depend on the machine's load: rerun on an idle machine for reference values.
 """
@@ -24,7 +27,9 @@ from sensor_msgs.msg import CameraInfo, Image
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
 from can_seeker.vision.report import can_report, fallback_pose
 from can_seeker.msg import CanDetection
+from can_seeker.vision.camera_scan import CameraScanner
 from can_seeker.vision.detector import RedCanDetector
+from can_seeker.vision.floor import FloorSettings
 
 SIZES = ((320, 240), (640, 480), (1280, 720))
 TUTORIAL_RED_LOW = (0, 120, 70)
@@ -99,6 +104,46 @@ def bench_frames(frames):
                 width, height, threads, ours[0], ours[1], tutorial[0], tutorial[1],
                 tutorial[0] / ours[0]))
     cv2.setNumThreads(default_threads)
+
+
+def obstacle_scene(width, height):
+    """floor_scene with two dark boxes and a light cylinder standing on the floor."""
+    image = floor_scene(width, height)
+    for left, top, right, bottom, colour in ((0.05, 0.35, 0.3, 0.6, (35, 35, 40)),
+                                              (0.7, 0.4, 0.95, 0.55, (40, 30, 30)),
+                                              (0.42, 0.38, 0.5, 0.52, (225, 225, 220))):
+        cv2.rectangle(image, (int(left * width), int(top * height)),
+                      (int(right * width), int(bottom * height)), colour, -1)
+    return image
+
+
+def tutorial_obstacle_callback(bgr):
+    """The obstacle tutorial's work per frame: dark pixels, largest contour, its box."""
+    grey = cv2.cvtColor(bgr, cv2.COLOR_BGR2GRAY)
+    _, dark = cv2.threshold(grey, 60, 255, cv2.THRESH_BINARY_INV)
+    contours, _ = cv2.findContours(dark, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+    return cv2.boundingRect(max(contours, key=cv2.contourArea)) if contours else None
+
+
+def bench_obstacle_scan(frames):
+    print('\nCamera obstacle scan per frame (ms; median / p95), %d frames each, OpenCV on %d '
+          'threads' % (frames, cv2.getNumThreads()))
+    print('| size | adaptive floor model | dark threshold | tutorial obstacle callback |')
+    print('|---|---|---|---|')
+    pose = fallback_pose(0.25, 25.0)
+    for width, height in SIZES:
+        image = obstacle_scene(width, height)
+        intrinsics = intrinsics_from_vertical_fov(width, height, 45.0)
+        cells = []
+        for floor_model in ('adaptive', 'dark'):
+            scanner = CameraScanner(FloorSettings(floor_model=floor_model))
+            result = scanner.scan(image, pose, intrinsics)
+            assert np.isfinite(result.ranges).any(), 'the benchmark scene must hold obstacles'
+            cells.append(time_per_frame_ms(lambda bgr: scanner.scan(bgr, pose, intrinsics),
+                                           image, frames))
+        cells.append(time_per_frame_ms(tutorial_obstacle_callback, image, frames))
+        print('| %dx%d | %s |' % (width, height, ' | '.join('%.2f / %.2f' % cell
+                                                          for cell in cells)))
 
 
 def free_port():
@@ -216,5 +261,6 @@ def main(argv=None):
     parser.add_argument('--no-ros', action='store_true', help='skip the ROS latency part')
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     bench_frames(args.frames)
+    bench_obstacle_scan(args.frames)
     if not args.no_ros:
         bench_latency(args.latency_seconds)
