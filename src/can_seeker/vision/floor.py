@@ -46,7 +46,7 @@ FLOOR_PARAMS = (
           '~floor_model is dark (0-255)', 0, 255),
     Param('min_bin_fraction', 0.004, 'a colour or intensity histogram bin holding less than '
           'this fraction of the floor model marks its pixels as obstacles (1)', 0.0, 1.0),
-    Param('adapt_rate', 0.01, 'weight of each frame\'s reference floor pixels in the floor '
+    Param('adapt_rate', 0.005, 'weight of each frame\'s reference floor pixels in the floor '
           'model (1 per frame; 0 = keep the first frame\'s model)', 0.0, 1.0),
     Param('reference_height', 0.2, 'height of the reference trapezoid at the bottom of the '
           'image that is assumed to be floor, as a fraction of the image height (1)', 0.02, 1.0),
@@ -64,7 +64,7 @@ class FloorSettings:
     floor_model: str = 'adaptive'
     dark_threshold: int = 60
     min_bin_fraction: float = 0.004
-    adapt_rate: float = 0.01
+    adapt_rate: float = 0.005
     reference_height: float = 0.2
     suspect_fraction: float = 0.3
     min_obstacle_area: float = 0.001
