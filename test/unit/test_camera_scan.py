@@ -179,3 +179,27 @@ def test_nothing_in_view_is_free_everywhere(room):
         ranges = scanner.scan(image, turned, INTRINSICS).ranges
         assert np.all(np.isinf(ranges)), floor_model
     world.place_can(8.0, 8.0)
+
+
+def banded_can_scene(width=WIDTH, height=HEIGHT):
+    """A grey floor and a can drawn as a soda can: silver lid, red top, white band with dark
+    marks, red bottom, silver base; its base on row 150 in columns 150-165."""
+    rng = np.random.default_rng(2)
+    image = np.clip(rng.normal(150.0, 3.0, (height, width, 3)), 0, 255).astype(np.uint8)
+    columns = slice(150, 166)
+    image[100:103, columns] = (200, 200, 205)          # lid
+    image[103:118, columns] = (30, 25, 200)            # red
+    image[118:128, columns] = (245, 245, 245)          # band
+    image[121:125, 153:163:3] = (40, 40, 40)           # lettering-like marks
+    image[128:148, columns] = (30, 25, 200)            # red
+    image[148:151, columns] = (190, 190, 195)          # base
+    return image
+
+
+def test_banded_can_with_rims_is_not_an_obstacle():
+    image = banded_can_scene()
+    excluded = CameraScanner().scan(image, POSE, INTRINSICS)
+    assert not excluded.obstacles.any()
+    assert np.all(np.isinf(excluded.ranges))
+    included = CameraScanner(exclude_can=False).scan(image, POSE, INTRINSICS)
+    assert included.obstacle_rows[155] == 150

@@ -30,8 +30,8 @@ SCAN_PARAMS = (
           'are not reported; also caps the scan\'s range_max (m)', 0.1, 100.0),
     Param('scan_frame', 'base_link', 'frame of the scan, on the floor with z up (REP-103); the '
           'camera pose is looked up in TF from it'),
-    Param('exclude_can', True, 'the red can (the detector\'s largest red blob, with its lid, '
-          'base and band) is the target, not an obstacle'),
+    Param('exclude_can', True, 'the red can (the detector\'s largest red blob with the red '
+          'stacked on it, its lid, base and band) is the target, not an obstacle'),
 )
 CAN_MARGIN = 0.2
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
@@ -143,15 +143,31 @@ def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray) -> np.ndarray
     return ranges.astype(np.float32)
 
 
-def can_region(shape, blob: Blob) -> np.ndarray:
-    """mono8 of the image ``shape``, 255 over the target can: its box widened by CAN_MARGIN."""
-    height, width = shape[:2]
-    region = np.zeros((height, width), np.uint8)
-    margin_x = int(math.ceil(CAN_MARGIN * blob.width))
-    margin_y = int(math.ceil(CAN_MARGIN * blob.height))
-    cv2.rectangle(region, (max(0, blob.x - margin_x), max(0, blob.y - margin_y)),
-                  (min(width - 1, blob.x + blob.width - 1 + margin_x),
-                   min(height - 1, blob.y + blob.height - 1 + margin_y)), 255, cv2.FILLED)
+def can_box(mask: np.ndarray, blob: Blob):
+    """(x0, y0, x1, y1) (px, inclusive) of the target can: the blob's box joined with the red
+    regions stacked on it (a band across the can splits its red in two), then widened by
+    CAN_MARGIN for the lid and the base."""
+    x0, y0 = blob.x, blob.y
+    x1, y1 = blob.x + blob.width - 1, blob.y + blob.height - 1
+    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+    for contour in contours:
+        x, y, width, height = cv2.boundingRect(contour)
+        overlaps_columns = x <= blob.x + blob.width - 1 and x + width - 1 >= blob.x
+        gap_rows = max(y - (blob.y + blob.height - 1), blob.y - (y + height - 1))
+        if overlaps_columns and gap_rows <= blob.height:
+            x0, y0 = min(x0, x), min(y0, y)
+            x1, y1 = max(x1, x + width - 1), max(y1, y + height - 1)
+    margin_x = int(math.ceil(CAN_MARGIN * (x1 - x0 + 1)))
+    margin_y = int(math.ceil(CAN_MARGIN * (y1 - y0 + 1)))
+    height, width = mask.shape[:2]
+    return (max(0, x0 - margin_x), max(0, y0 - margin_y), min(width - 1, x1 + margin_x),
+            min(height - 1, y1 + margin_y))
+
+
+def can_region(shape, box) -> np.ndarray:
+    """mono8 of the image ``shape``, 255 inside ``box`` (x0, y0, x1, y1, inclusive)."""
+    region = np.zeros(shape[:2], np.uint8)
+    cv2.rectangle(region, box[:2], box[2:], 255, cv2.FILLED)
     return region
 
 
@@ -196,7 +212,7 @@ class CameraScanner:
         if self.exclude_can:
             result = self.can_detector.detect(bgr)
             if result.blob is not None:
-                can = can_region(bgr.shape, result.blob)
+                can = can_region(bgr.shape, can_box(result.mask, result.blob))
         obstacles = self.floor.classify(bgr, can)
         geometry = self.geometry_for(pose, intrinsics)
         if geometry is None or geometry.range_m.shape != obstacles.shape:
