@@ -245,11 +245,33 @@ def test_stopped_holds_inside_hysteresis():
     assert command == (0.0, 0.0)
 
 
-def test_stopped_holds_when_can_is_not_seen():
+VANISH_S = DEFAULTS['vanish_timeout']
+
+
+def test_stopped_holds_while_the_can_is_missed_for_less_than_the_vanish_timeout():
     controller = stopped_controller()
-    command, _ = run(controller, None, 1.0, 1.0)
+    command, now = run(controller, None, 1.0, VANISH_S - 0.2)
     assert controller.state is State.STOPPED
     assert command == (0.0, 0.0)
+    run(controller, ahead(STOP + 0.002), now, 0.2)
+    run(controller, None, now + 0.2, VANISH_S - 0.2)
+    assert controller.state is State.STOPPED
+
+
+def test_stopped_to_lost_when_the_can_vanished_then_search():
+    controller = stopped_controller()
+    run(controller, ahead(STOP + 0.002, -1.0), 1.0, 0.2)
+    command, now = run(controller, None, 1.2, VANISH_S + 0.2)
+    assert controller.state is State.LOST
+    assert command[0] == 0.0 and command[1] < 0.0, 'turns toward the side it was last seen'
+    run(controller, None, now, DEFAULTS['lost_timeout'] + 0.2)
+    assert controller.state is State.SEARCH
+
+
+def test_stopped_to_lost_when_only_seen_without_range():
+    controller = stopped_controller()
+    run(controller, Sighting(math.nan, 0.3), 1.0, VANISH_S + 0.2)
+    assert controller.state is State.LOST
 
 
 def test_stopped_to_approach_when_can_moves_away():

@@ -183,3 +183,34 @@ def test_reset_restores_robot_and_can(sim):
     assert sim.executed_twist == (0.0, 0.0)
     assert sim.world.robot_state().position[0] == pytest.approx(0.0, abs=1e-6)
     assert sim.world.can_pose()[0][:2] == pytest.approx((0.5, 0.0))
+
+
+def test_reset_trial_puts_robot_at_start_and_can_where_asked_in_one_call(sim):
+    for _ in range(240):
+        sim.command(0.3, 0.2)
+        sim.step()
+    success, _ = sim.reset_trial((-1.2, 0.4))
+    assert success
+    assert sim.executed_twist == (0.0, 0.0)
+    assert sim.world.robot_state().position[:2] == pytest.approx((0.0, 0.0), abs=1e-6)
+    assert sim.world.can_pose()[0][:2] == pytest.approx((-1.2, 0.4))
+    assert sim.reset_trial(None)[0]
+    assert sim.world.can_pose()[0][:2] == pytest.approx((-1.2, 0.4))
+
+
+def test_reset_trial_refuses_a_can_on_the_robot_and_keeps_the_last_placement(sim):
+    sim.place_can(1.0, 0.5)
+    success, message = sim.reset_trial((0.1, 0.0))
+    assert not success and 'overlap' in message
+    assert sim.world.can_home == (1.0, 0.5)
+
+
+def test_reset_forgets_a_touch_before_it(sim):
+    sim.place_can(0.4, 0.0)
+    for _ in range(240):
+        sim.command(0.3, 0.0)
+        sim.step()
+    sim.reset_trial((1.0, 0.0))
+    touches = [result.touched_can for result in (sim.step() for _ in range(24))
+               if result.state_due]
+    assert touches and not any(touches)

@@ -6,8 +6,10 @@ fixed rate):
 - SEARCH: turn in place toward the side the can was last seen (left at start).
 - APPROACH: steer on the bearing, drive at a speed set by the gap error, slow down near the
   target so the acceleration limit can stop it without overshoot, back up if too close.
-- STOPPED: hold zero; drive again only when the can moves away beyond a hysteresis band.
-- LOST: the can left the view during APPROACH: turn toward the side where it left; after
+- STOPPED: hold zero; drive again only when the can moves away beyond a hysteresis band;
+  when the can has not been seen (with a range) for ``vanish_timeout``, LOST: it was taken away.
+- LOST: the can left the view during APPROACH (or vanished while STOPPED): turn toward the
+  side where it was last seen; after
   ``lost_timeout`` without it, SEARCH.
 
 A detection message that is too old (``detection_timeout``) gives a zero command whatever the
@@ -64,6 +66,11 @@ PARAMS = (
     Param('search_angular', 0.8, 'turn rate in SEARCH and LOST (rad/s)', 0.05, 3.0),
     Param('lost_timeout', 5.0, 'LOST becomes SEARCH after this long without the can (s)',
           0.0, 120.0),
+    Param('vanish_timeout', 1.5, 'STOPPED becomes LOST when the can has not been seen with a '
+          'range for this long (s)', 0.0, 120.0),
+    Param('lockstep', False, 'answer every detection at once with a command stamped like its '
+          'image (on /cmd_vel and cmd_vel_stamped; for a simulator in lockstep); the timer then '
+          'sends only the zero of a stale detection'),
     Param('detection_timeout', 0.5,
           'no detection message for this long: zero Twist until one arrives (s)', 0.05, 10.0),
     Param('robot_radius', 0.165, 'radius of the robot body about base_link (m)', 0.0, 2.0),
@@ -181,6 +188,7 @@ class Controller:
         self.sighting: Optional[Sighting] = None
         self.last_message_s: Optional[float] = None
         self.lost_since_s = 0.0
+        self.seen_since_stop_s = 0.0
         self.last_command: Tuple[float, float] = (0.0, 0.0)
         self.last_command_s: Optional[float] = None
 
@@ -206,11 +214,21 @@ class Controller:
             if not ranged:
                 self.state = State.LOST
                 self.lost_since_s = now_s
-        elif self.state is State.STOPPED and ranged:
-            gap_error, bearing = self._errors()
-            if (abs(gap_error) > self.config.reapproach_distance
-                    or abs(bearing) > math.radians(self.config.reapproach_bearing_deg)):
-                self.state = State.APPROACH
+        elif self.state is State.STOPPED:
+            self._observe_stopped(ranged, now_s)
+
+    def _observe_stopped(self, ranged: bool, now_s: float) -> None:
+        """STOPPED: approach again when the can moved, LOST when it vanished for a while."""
+        if not ranged:
+            if now_s - self.seen_since_stop_s > self.config.vanish_timeout:
+                self.state = State.LOST
+                self.lost_since_s = now_s
+            return
+        self.seen_since_stop_s = now_s
+        gap_error, bearing = self._errors()
+        if (abs(gap_error) > self.config.reapproach_distance
+                or abs(bearing) > math.radians(self.config.reapproach_bearing_deg)):
+            self.state = State.APPROACH
 
     def is_stale(self, now_s: float) -> bool:
         """True when the last detection message will be older than ``detection_timeout``
@@ -262,5 +280,6 @@ class Controller:
         self.last_command = (linear, angular)
         if self.state is State.APPROACH and self._settled(self.last_command):
             self.state = State.STOPPED
+            self.seen_since_stop_s = now_s
         return self.last_command
 

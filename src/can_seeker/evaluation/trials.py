@@ -54,7 +54,8 @@ class TrialResult:
     """One trial: where the can was, whether and when the robot stopped, the true final state.
 
     ``time_to_stop_s`` is sim time from the start to STOPPED (None if it never stopped);
-    ``sim_s`` / ``wall_s`` the sim and wall-clock time the trial took.
+    ``sim_s`` / ``wall_s`` the sim and wall-clock time the trial took; ``final_*`` the true
+    base_link pose at the end (odom, m and deg).
     """
 
     index: int
@@ -69,6 +70,9 @@ class TrialResult:
     sim_s: float
     wall_s: float
     success: bool
+    final_x_m: float = math.nan
+    final_y_m: float = math.nan
+    final_yaw_deg: float = math.nan
 
     def as_dict(self):
         """JSON-ready fields."""
@@ -87,7 +91,8 @@ def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],
                and abs(gap_m - criteria.stop_distance_m) <= criteria.gap_tolerance_m
                and abs(math.degrees(bearing_rad)) <= criteria.bearing_tolerance_deg)
     return TrialResult(index, float(can_xy[0]), float(can_xy[1]), stopped, time_to_stop_s,
-                       gap_m, math.degrees(bearing_rad), contact, path_m, sim_s, wall_s, success)
+                       gap_m, math.degrees(bearing_rad), contact, path_m, sim_s, wall_s, success,
+                       float(base_xy[0]), float(base_xy[1]), math.degrees(base_yaw_rad))
 
 
 def _stats(values: List[float], kind: str) -> Optional[float]:

@@ -1,16 +1,17 @@
 """can_stopper: drive the robot to the can seen by image_converter and stop just in front of it.
 
 Subscribes ``/image_converter/detection`` (can_seeker/CanDetection), publishes ``/cmd_vel``
-(geometry_msgs/Twist) from a fixed-rate timer and ``~state`` (std_msgs/String, latched);
-``~reset`` (std_srvs/Empty) returns to SEARCH. The behaviour is
-:mod:`can_seeker.control.controller`.
+(geometry_msgs/Twist) and ``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the same command
+stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep`` once per
+detection, stamped like its image; ``~state`` (std_msgs/String, latched); ``~reset``
+(std_srvs/Empty) returns to SEARCH. The behaviour is :mod:`can_seeker.control.controller`.
 """
 import threading
 import time
 
 import rospy
 import tf2_ros
-from geometry_msgs.msg import Twist
+from geometry_msgs.msg import Twist, TwistStamped
 from std_msgs.msg import String
 from std_srvs.srv import Empty, EmptyResponse
 
@@ -45,12 +46,13 @@ class CanStopperNode:
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
+        self.stamped_cmd_pub = rospy.Publisher('cmd_vel_stamped', TwistStamped, queue_size=10)
         self.state_pub = rospy.Publisher('~state', String, queue_size=1, latch=True)
         self.published_state = None
         self.publish_state()
         rospy.Service('~reset', Empty, self.on_reset)
         rospy.Subscriber('/image_converter/detection', CanDetection, self.on_detection,
-                         queue_size=1)
+                         queue_size=1, tcp_nodelay=True)
         rospy.on_shutdown(self.on_shutdown)
         self.timer = rospy.Timer(rospy.Duration(1.0 / self.params.rate), self.on_timer)
 
@@ -83,17 +85,39 @@ class CanStopperNode:
         sighting = sighting_from_detection(detection.found, detection.range, detection.bearing,
                                            camera, self.params.robot_radius,
                                            self.params.can_radius)
+        stamp_s = detection.header.stamp.to_sec()
         with self.lock:
-            self.controller.observe(sighting, rospy.get_time(), detection.header.stamp.to_sec())
+            if not self.params.lockstep:
+                self.controller.observe(sighting, rospy.get_time(), stamp_s)
+                return
+            if self.shutting_down:
+                return
+            # Lockstep: the image's sim time is now (the simulator waits for this answer).
+            self.controller.observe(sighting, stamp_s, stamp_s)
+            self.publish_command(self.controller.command(stamp_s), detection.header.stamp)
+        self.publish_state()
+
+    def publish_command(self, command, stamp):
+        """``command`` (linear m/s, angular rad/s) on /cmd_vel and, stamped, on cmd_vel_stamped."""
+        message = twist(*command)
+        stamped = TwistStamped(twist=message)
+        stamped.header.stamp = stamp
+        self.cmd_pub.publish(message)
+        self.stamped_cmd_pub.publish(stamped)
 
     def on_timer(self, _event):
-        """One control tick; publishes under the lock so no tick can follow the shutdown zeros."""
+        """One control tick; publishes under the lock so no tick can follow the shutdown zeros.
+        In lockstep only a stale detection's zero goes out (detections bring the commands)."""
         now = rospy.get_time()
         with self.lock:
             if self.shutting_down:
                 return
             stale = self.controller.is_stale(now) and self.controller.last_message_s is not None
-            self.cmd_pub.publish(twist(*self.controller.command(now)))
+            if not self.params.lockstep:
+                self.publish_command(self.controller.command(now), rospy.Time.from_sec(now))
+            elif stale:
+                # Leaves the controller's command history alone: its timing stays the frames'.
+                self.publish_command((0.0, 0.0), rospy.Time.from_sec(now))
         if stale:
             rospy.logwarn_throttle(5.0, 'can_stopper: no detection for over %.2f s: zero Twist'
                                    % self.params.detection_timeout)
@@ -119,7 +143,7 @@ class CanStopperNode:
             self.shutting_down = True
         self.timer.shutdown()
         for _ in range(SHUTDOWN_ZERO_COUNT):
-            self.cmd_pub.publish(twist(0.0, 0.0))
+            self.publish_command((0.0, 0.0), rospy.Time.from_sec(rospy.get_time()))
             time.sleep(SHUTDOWN_ZERO_SPACING_S)
 
 

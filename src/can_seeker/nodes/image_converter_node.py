@@ -87,7 +87,8 @@ class ImageConverterNode:
         self.edges_pub = rospy.Publisher('~edges', Image, queue_size=1)
         self.reconfigure = Server(ImageConverterConfig, self.on_reconfigure)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
-        rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE)
+        rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE,
+                         tcp_nodelay=True)
 
     @staticmethod
     def _make_display(show):

@@ -4,8 +4,10 @@ Publishes /clock (every physics step), /camera/image_raw + /camera/camera_info (
 sim time the frame was rendered), /odom and TF odom->base_link (perfect odometry: the true pose
 and twist from pybullet), static TF base_link->camera_link->camera_optical_frame from the actual
 camera parameters, and ground truth /sim/can_pose and /sim/contact (whether the robot touched
-the can at any physics step since the previous message). Subscribes /cmd_vel. Services
-/sim/reset and /sim/place_can run on the simulation thread between physics steps.
+the can at any physics step since the previous message). Subscribes /cmd_vel, or in lockstep
+cmd_vel_stamped. Services /sim/reset, /sim/reset_trial, /sim/place_can, /sim/pause_physics and
+/sim/unpause_physics run on the simulation thread between physics steps (in lockstep, after the
+current frame was answered).
 """
 import math
 import os
@@ -13,7 +15,7 @@ import time
 
 import rospy
 import tf2_ros
-from geometry_msgs.msg import PoseStamped, TransformStamped, Twist
+from geometry_msgs.msg import PoseStamped, TransformStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image
@@ -21,10 +23,11 @@ from std_msgs.msg import Bool
 from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.sim.call_queue import CallQueue
+from can_seeker.sim.lockstep import LockstepGate, header_stamp_s, parse_topics
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.params import read_params
 from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_config
-from can_seeker.srv import PlaceCan, PlaceCanResponse
+from can_seeker.srv import PlaceCan, PlaceCanResponse, ResetTrial, ResetTrialResponse
 from can_seeker.sim.world import World, package_urdf_path
 
 ODOM_FRAME = 'odom'
@@ -35,6 +38,11 @@ SERVICE_TIMEOUT_S = 10.0
 MAX_PACING_LAG_S = 0.5
 """When the loop falls this far behind the wall-clock pace (s), it stops trying to catch up."""
 ERROR_THROTTLE_S = 5.0
+HOLD_POLL_S = 0.05
+"""While a frame waits for its answers, calls and shutdown are checked this often (s, wall)."""
+PAUSED_POLL_S = 0.002
+"""While paused, calls are checked this often (s, wall)."""
+STAMPED_COMMAND_TOPIC = 'cmd_vel_stamped'
 
 
 def _transform(stamp, parent, child, translation, rotation_xyzw) -> TransformStamped:
@@ -81,6 +89,9 @@ class SimNode:
         self._sim = Simulation.from_config(world, config)
         self._real_time_factor = config.real_time_factor
         self._calls = CallQueue()
+        self._paused = False
+        self._reset_s = self._sim.time_s
+        self._gate = LockstepGate(config.lockstep_timeout) if config.lockstep else None
         self._camera_info = _camera_info(spec.intrinsics)
 
         self._clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
@@ -99,9 +110,53 @@ class SimNode:
             _transform(stamp, CAMERA_FRAME, OPTICAL_FRAME, (0.0, 0.0, 0.0),
                        OPTICAL_IN_CAMERA_LINK_XYZW),
         ])
-        rospy.Subscriber('cmd_vel', Twist, self._on_cmd_vel, queue_size=10)
+        self._lockstep_inputs = []
+        if self._gate is None:
+            rospy.Subscriber('cmd_vel', Twist, self._on_cmd_vel, queue_size=10)
+        else:
+            self._subscribe_lockstep(parse_topics(config.lockstep_topics))
         rospy.Service('~reset', Empty, self._on_reset)
+        rospy.Service('~reset_trial', ResetTrial, self._on_reset_trial)
         rospy.Service('~place_can', PlaceCan, self._on_place_can)
+        rospy.Service('~pause_physics', Empty, lambda _: self._set_paused(True))
+        rospy.Service('~unpause_physics', Empty, lambda _: self._set_paused(False))
+
+    def _subscribe_lockstep(self, topics):
+        """Await the stamped command and ``topics`` (any type that starts with a Header)."""
+        command = rospy.Subscriber(STAMPED_COMMAND_TOPIC, TwistStamped,
+                                   self._on_stamped_command, queue_size=10, tcp_nodelay=True)
+        self._lockstep_inputs.append((command.resolved_name, command))
+        for topic in topics:
+            subscriber = rospy.Subscriber(topic, rospy.AnyMsg, self._on_lockstep_answer,
+                                          callback_args=rospy.names.resolve_name(topic),
+                                          queue_size=10, tcp_nodelay=True)
+            self._lockstep_inputs.append((subscriber.resolved_name, subscriber))
+        rospy.loginfo('sim: lockstep: each frame waits for %s (at most %.2f s)',
+                      ', '.join(name for name, _ in self._lockstep_inputs),
+                      self._gate.timeout_s)
+
+    def _on_lockstep_answer(self, message, name):
+        try:
+            self._gate.answered(name, header_stamp_s(message._buff))
+        except ValueError as error:
+            rospy.logerr_throttle(ERROR_THROTTLE_S, 'sim: lockstep topic %s: %s' % (name, error))
+
+    def _on_stamped_command(self, command: TwistStamped):
+        stamp_s = command.header.stamp.to_sec()
+        if stamp_s > self._reset_s:
+            self._on_cmd_vel(command.twist)
+        self._gate.answered(self._lockstep_inputs[0][0], stamp_s)
+
+    def _awaited_inputs(self):
+        """The lockstep inputs a frame waits for: those with a publisher, if anyone sees it."""
+        if self._image_pub.get_num_connections() == 0:
+            return ()
+        return [name for name, subscriber in self._lockstep_inputs
+                if subscriber.get_num_connections() > 0]
+
+    def _set_paused(self, paused):
+        self._calls.call(lambda: setattr(self, '_paused', paused), SERVICE_TIMEOUT_S)
+        return EmptyResponse()
 
     def _on_cmd_vel(self, twist: Twist):
         linear_mps, angular_radps = twist.linear.x, twist.angular.z
@@ -113,10 +168,27 @@ class SimNode:
 
     def _on_reset(self, _request):
         try:
-            self._calls.call(self._sim.reset, SERVICE_TIMEOUT_S)
+            self._calls.call(lambda: self._reset_trial(None), SERVICE_TIMEOUT_S)
         except TimeoutError as error:
             rospy.logerr('sim: reset failed: %s', error)
         return EmptyResponse()
+
+    def _reset_trial(self, can_xy):
+        """On the sim thread: reset, and say at which sim time it took effect."""
+        success, message = self._sim.reset_trial(can_xy)
+        self._reset_s = self._sim.time_s
+        return success, message, self._reset_s
+
+    def _on_reset_trial(self, request):
+        can_xy = (request.can_x, request.can_y) if request.place_can else None
+        try:
+            success, message, reset_s = self._calls.call(lambda: self._reset_trial(can_xy),
+                                                         SERVICE_TIMEOUT_S)
+        except TimeoutError as error:
+            success, message, reset_s = False, str(error), self._sim.time_s
+        if not success:
+            rospy.logerr_throttle(ERROR_THROTTLE_S, 'sim: reset_trial: %s' % message)
+        return ResetTrialResponse(success, message, rospy.Time.from_sec(reset_s))
 
     def _on_place_can(self, request):
         try:
@@ -170,16 +242,38 @@ class SimNode:
         self._can_pose_pub.publish(can)
         self._contact_pub.publish(Bool(data=touched_can))
 
+    def _wait_for_answers(self) -> bool:
+        """In lockstep, whether the held frame still waits for its answers (a timeout is
+        warned about and counted, and lets the simulation go on)."""
+        missing = self._gate.wait(HOLD_POLL_S)
+        if missing is None:
+            return True
+        if missing:
+            rospy.logwarn_throttle(
+                ERROR_THROTTLE_S, 'sim: lockstep: no answer from %s within %.2f s at t=%.3f; '
+                'stepping on (%d frames timed out so far)' % (
+                    ', '.join(missing), self._gate.timeout_s, self._sim.time_s,
+                    self._gate.timeouts))
+        return False
+
     def spin(self):
         """Step, publish and pace until shutdown."""
         wall_start_s, sim_start_s = time.monotonic(), self._sim.time_s
         while not rospy.is_shutdown():
+            if self._gate is not None and self._gate.holding and self._wait_for_answers():
+                continue
             self._calls.run_pending()
+            if self._paused:
+                time.sleep(PAUSED_POLL_S)
+                wall_start_s, sim_start_s = time.monotonic(), self._sim.time_s
+                continue
             result = self._sim.step()
             self._publish_clock()
             stamp = rospy.Time.from_sec(result.time_s)
             if result.image is not None:
                 self._publish_image(result.image, stamp)
+                if self._gate is not None:
+                    self._gate.hold(result.time_s, self._awaited_inputs())
             if result.state_due:
                 self._publish_state(stamp, result.touched_can)
             if self._real_time_factor > 0.0:

@@ -55,6 +55,15 @@ PARAMS = (
     Param('can_max_distance', 3.0, 'farthest random can centre from the robot start (m)',
           0.3, 50.0),
     Param('can_rgba', DEFAULT_CAN_RGBA, 'can colour: red green blue alpha, four numbers in 0-1'),
+    Param('lockstep', False, 'after each camera frame, step no further until every '
+          '~lockstep_topics topic and the stamped command (cmd_vel_stamped) answered it with a '
+          'message stamped at or after the frame (or ~lockstep_timeout passed); the base then '
+          'follows cmd_vel_stamped only'),
+    Param('lockstep_topics', '/image_converter/detection', 'topics with a std_msgs/Header '
+          'whose stamp must reach the frame stamp before the next step in lockstep, separated '
+          'by spaces; a topic without a publisher is not waited for'),
+    Param('lockstep_timeout', 2.0, 'wall-clock seconds a frame waits for its answers in '
+          'lockstep before the simulation steps on (counted, with a warning)', 0.01, 600.0),
 )
 
 MIN_CAN_CLEARANCE_M = BODY_RADIUS_M + CAN_RADIUS_M
@@ -192,11 +201,21 @@ class Simulation:
         self._watchdog.reset()
         self._limiter.reset()
         self.world.reset_robot()
+        self._touched_can = False
 
     def reset(self):
         """Robot back to the start pose at rest, can upright at its last placement."""
         self.reset_robot()
         self.world.place_can(*self.world.can_home)
+
+    def reset_trial(self, can_xy: Optional[Tuple[float, float]]) -> Tuple[bool, str]:
+        """Robot at the start pose at rest, can upright at ``can_xy`` (odom, m) or, when None,
+        at its last placement; (success, why). A refused placement leaves the can at its last
+        placement."""
+        self.reset()
+        if can_xy is None:
+            return True, 'robot at the start, can at (%.3f, %.3f)' % self.world.can_home
+        return self.place_can(*can_xy)
 
     def place_can(self, x_m: float, y_m: float) -> Tuple[bool, str]:
         """Stand the can at (x, y) in odom (m) unless that overlaps the robot; (success, why)."""

@@ -1,6 +1,11 @@
 """Closed-loop runs of the real nodes: start them under their own master, watch the ground truth,
 run trials through the sim and controller services.
 
+A trial starts atomically: the simulator is paused, the controller reset, the robot and the can
+reset in one service call that says at which sim time it took effect, and the simulator
+unpaused; the monitors record from exactly that time. At the end the simulator is paused again,
+so the final state is measured on a still world.
+
 Shared by ``scripts/evaluate``, ``scripts/demo`` and the closed-loop rostests. Ground truth comes
 from the simulator: ``/odom`` (true base pose), ``/sim/can_pose``, ``/sim/contact``.
 """
@@ -18,12 +23,13 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty
 
-from can_seeker.srv import PlaceCan
+from can_seeker.srv import PlaceCan, ResetTrial
 from can_seeker.camera_geometry import yaw_from_quaternion
 from can_seeker.evaluation.trials import judge, path_length
 
 STATE_TOPIC = '/can_stopper/state'
-SERVICES = ('/sim/reset', '/sim/place_can', '/can_stopper/reset')
+SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/pause_physics', '/sim/unpause_physics',
+            '/can_stopper/reset')
 POLL_S = 0.01
 SETTLE_S = 0.5
 """Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
@@ -102,7 +108,8 @@ class LaunchedSystem:
 class TruthMonitor:
     """Subscribes to the ground truth and the controller state; keeps what one trial needs.
 
-    Messages stamped before :meth:`start` (still in flight from before a reset) are ignored.
+    Messages stamped at or before :meth:`start` (still in flight from before a reset) are
+    ignored.
     The truth topics are queued without limit: on a busy machine a bounded queue would drop
     the older part of the path.
     """
@@ -116,7 +123,7 @@ class TruthMonitor:
         rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10)
 
     def start(self, now_s):
-        """Forget the previous trial: record from sim time ``now_s`` on."""
+        """Forget the previous trial: record what is stamped after sim time ``now_s``."""
         with self.lock:
             self.start_s = now_s
             self.path = []
@@ -128,7 +135,7 @@ class TruthMonitor:
             self.seen_search = False
 
     def _on_odom(self, message):
-        if message.header.stamp.to_sec() < self.start_s:
+        if message.header.stamp.to_sec() <= self.start_s:
             return
         position = message.pose.pose.position
         with self.lock:
@@ -138,12 +145,12 @@ class TruthMonitor:
             self.path.append((position.x, position.y))
 
     def _on_can_pose(self, message):
-        if message.header.stamp.to_sec() >= self.start_s:
+        if message.header.stamp.to_sec() > self.start_s:
             with self.lock:
                 self.can_xy = (message.pose.position.x, message.pose.position.y)
 
     def _on_contact(self, message):
-        if message.data and rospy.get_time() >= self.start_s:
+        if message.data and rospy.get_time() > self.start_s:
             with self.lock:
                 self.contact = True
 
@@ -162,15 +169,35 @@ class TruthMonitor:
 
 
 class TrialRunner:
-    """Runs trials on a running system: reset the sim, place the can, reset the controller,
-    wait for STOPPED (or the time limit, sim time), let the base settle, judge on truth."""
+    """Runs trials on a running system: an atomic start (see the module), wait for STOPPED (or
+    the time limit, sim time), let the base settle, pause, judge on truth."""
 
     def __init__(self, criteria):
         self.criteria = criteria
         self.monitor = TruthMonitor()
-        self.reset_sim = rospy.ServiceProxy('/sim/reset', Empty)
+        self.reset_trial = rospy.ServiceProxy('/sim/reset_trial', ResetTrial, persistent=True)
         self.place_can = rospy.ServiceProxy('/sim/place_can', PlaceCan)
-        self.reset_controller = rospy.ServiceProxy('/can_stopper/reset', Empty)
+        self.pause = rospy.ServiceProxy('/sim/pause_physics', Empty, persistent=True)
+        self.unpause = rospy.ServiceProxy('/sim/unpause_physics', Empty, persistent=True)
+        self.reset_controller = rospy.ServiceProxy('/can_stopper/reset', Empty, persistent=True)
+
+    def start(self, can_xy):
+        """Start a trial with the can centre at ``can_xy`` (odom, m); its start in sim time (s).
+
+        Paused, nothing moves and no frame is taken while the controller and the scene are
+        reset, so the trial begins exactly at the reset, with the robot where it was put.
+        """
+        self.pause()
+        reset = self.reset_trial(True, can_xy[0], can_xy[1])
+        if not reset.success:
+            self.unpause()
+            raise RuntimeError('reset_trial with the can at (%.3f, %.3f) failed: %s'
+                               % (can_xy[0], can_xy[1], reset.message))
+        start_s = reset.stamp.to_sec()
+        self.monitor.start(start_s)
+        self.reset_controller()
+        self.unpause()
+        return start_s
 
     def wait_sim(self, duration_s, done=lambda: False):
         """Sleep ``duration_s`` of sim time, or until ``done()``; False if ROS shut down."""
@@ -182,19 +209,16 @@ class TrialRunner:
         return True
 
     def run(self, index, can_xy):
-        """One trial with the can centre at ``can_xy`` (odom, m); returns a TrialResult."""
-        self.reset_sim()
-        placed = self.place_can(can_xy[0], can_xy[1])
-        if not placed.success:
-            raise RuntimeError('place_can(%.3f, %.3f) failed: %s'
-                               % (can_xy[0], can_xy[1], placed.message))
-        start_s = rospy.get_time()
+        """One trial with the can centre at ``can_xy`` (odom, m); returns a TrialResult.
+
+        The simulator stays paused afterwards (the next :meth:`start` unpauses it).
+        """
         start_wall = time.monotonic()
-        self.monitor.start(start_s)
-        self.reset_controller()
+        start_s = self.start(can_xy)
         self.wait_sim(self.criteria.time_limit_s, lambda: self.monitor.stopped_s is not None)
         if self.monitor.stopped_s is not None:
             self.wait_sim(SETTLE_S)
+        self.pause()
         pose, final_can, contact, path, stopped_s = self.monitor.snapshot()
         if pose is None or final_can is None:
             raise RuntimeError('no ground truth from the simulator (/odom, /sim/can_pose)')

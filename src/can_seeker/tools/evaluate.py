@@ -45,6 +45,9 @@ def parse_args(argv):
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=0.0,
                         help='sim speed; 0 runs as fast as possible')
+    parser.add_argument('--no-lockstep', dest='lockstep', action='store_false',
+                        help='let the simulator run without waiting for each frame\'s '
+                        'detection and command (results then depend on the machine\'s load)')
     parser.add_argument('--json', metavar='FILE', help='write the results as JSON')
     parser.add_argument('--log', metavar='FILE',
                         help='roslaunch output (default: a file in the temp directory)')
@@ -55,14 +58,15 @@ def launch_args(args):
     """demo.launch arguments for the camera and can options."""
     return {'width': args.width, 'height': args.height, 'camera_height': args.camera_height,
             'camera_pitch_deg': args.camera_pitch, 'can_rgba': args.can_rgba,
-            'real_time_factor': args.real_time_factor, 'can_placement': 'fixed'}
+            'real_time_factor': args.real_time_factor, 'can_placement': 'fixed',
+            'lockstep': str(args.lockstep).lower()}
 
 
 def settings(args):
     """The options that define the evaluation, for the JSON record."""
     return {name: getattr(args, name) for name in (
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
-        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor')}
+        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep')}
 
 
 def run_trial(runner, args, index):
