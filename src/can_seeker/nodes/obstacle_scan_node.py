@@ -49,7 +49,8 @@ class ObstacleScanNode:
         self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
         self.obstacles_pub = rospy.Publisher('~obstacles', Image, queue_size=1)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
-        rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE)
+        rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE,
+                         tcp_nodelay=True)
 
     def on_camera_info(self, msg):
         try:
