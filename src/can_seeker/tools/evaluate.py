@@ -5,12 +5,20 @@ The nodes start once (``demo.launch`` on a free port); between trials the sim an
 are reset through their services. Each trial stands the can at a random bearing and distance
 (trial i uses seed + i, so ``--seed S+i --trials 1`` repeats it). Prints a progress bar, then a
 summary table; ``--json FILE`` writes every trial and the summary. Exits 1 when a trial failed.
+
+Scale out: ``--jobs N`` runs N independent systems (each its own master on its own port) in
+parallel and merges their results; ``--shard i/N`` runs every N-th trial from trial i - 1 and
+``--merge a.json b.json ...`` merges shard records from anywhere. ``--repeat-check`` runs the
+trials twice and reports the largest per-trial difference (final pose, outcome).
 """
 import argparse
 import json
 import os
+import shutil
+import subprocess
 import sys
 import tempfile
+import time
 
 import rospy
 from tqdm import tqdm
@@ -18,6 +26,9 @@ from tqdm import tqdm
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
 from can_seeker.sim.simulation import PARAMS as SIM_PARAMS, random_can_position
+from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
+                                         compare_runs, merge_records, parse_shard,
+                                         shard_indices)
 from can_seeker.evaluation.trials import Criteria, summarise, summary_table
 
 SIM = defaults(SIM_PARAMS)
@@ -48,10 +59,31 @@ def parse_args(argv):
     parser.add_argument('--no-lockstep', dest='lockstep', action='store_false',
                         help='let the simulator run without waiting for each frame\'s '
                         'detection and command (results then depend on the machine\'s load)')
+    parser.add_argument('--jobs', type=int, default=1,
+                        help='independent systems run in parallel, each with its own master')
+    parser.add_argument('--shard', type=_shard, default=(1, 1), metavar='i/N',
+                        help='run only every N-th trial, from trial i - 1')
+    parser.add_argument('--merge', nargs='+', metavar='JSON',
+                        help='merge the --json records of shards (no trials are run)')
+    parser.add_argument('--repeat-check', action='store_true',
+                        help='run the trials twice and report the largest per-trial difference; '
+                        'exit 1 unless outcomes match and final poses agree within %g mm and '
+                        '%g deg' % (1000.0 * REPEAT_POSITION_TOLERANCE_M,
+                                    REPEAT_YAW_TOLERANCE_DEG))
     parser.add_argument('--json', metavar='FILE', help='write the results as JSON')
     parser.add_argument('--log', metavar='FILE',
                         help='roslaunch output (default: a file in the temp directory)')
-    return parser.parse_args(argv)
+    args = parser.parse_args(argv)
+    if args.jobs < 1:
+        parser.error('--jobs must be at least 1')
+    return args
+
+
+def _shard(text):
+    try:
+        return parse_shard(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error))
 
 
 def launch_args(args):
@@ -66,7 +98,7 @@ def settings(args):
     """The options that define the evaluation, for the JSON record."""
     return {name: getattr(args, name) for name in (
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
-        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep')}
+        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep', 'shard')}
 
 
 def run_trial(runner, args, index):
@@ -82,7 +114,8 @@ def run_trial(runner, args, index):
 
 
 def run(args):
-    """Start the nodes, run the trials (Ctrl-C ends early); the results and the criteria."""
+    """Start the nodes, run this shard's trials (Ctrl-C ends early); the results and the
+    criteria."""
     log_path = args.log or os.path.join(tempfile.gettempdir(),
                                         'can_seeker_evaluate_%d.log' % os.getpid())
     results = []
@@ -92,7 +125,8 @@ def run(args):
         criteria = Criteria(stop_distance_m=rospy.get_param('/can_stopper/stop_distance'),
                             time_limit_s=args.time_limit)
         runner = TrialRunner(criteria)
-        bar = tqdm(range(args.trials), desc='trials', unit='trial', file=sys.stderr)
+        bar = tqdm(shard_indices(args.trials, args.shard), desc='trials', unit='trial',
+                   file=sys.stderr)
         try:
             for index in bar:
                 results.append(run_trial(runner, args, index))
@@ -104,21 +138,104 @@ def run(args):
     return results, criteria
 
 
+def child_command(args, shard, json_path):
+    """The command line of one shard of a ``--jobs`` run."""
+    command = [sys.executable, os.path.abspath(sys.argv[0])]
+    for name in ('trials', 'seed', 'min_distance', 'max_distance', 'width', 'height',
+                 'camera_height', 'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor'):
+        command += ['--' + name.replace('_', '-'), str(getattr(args, name))]
+    if not args.lockstep:
+        command.append('--no-lockstep')
+    return command + ['--shard', '%d/%d' % shard, '--json', json_path]
+
+
+def run_jobs(args):
+    """Run ``args.jobs`` shards as separate processes, each with its own system; merged
+    results and criteria."""
+    workdir = tempfile.mkdtemp(prefix='can_seeker_evaluate_')
+    children = []
+    for index in range(1, args.jobs + 1):
+        json_path = os.path.join(workdir, 'shard%d.json' % index)
+        log = open(os.path.join(workdir, 'shard%d.log' % index), 'w')
+        children.append((json_path, log, subprocess.Popen(
+            child_command(args, (index, args.jobs), json_path), stdout=log,
+            stderr=subprocess.STDOUT)))
+        time.sleep(1.0)  # masters on distinct free ports
+    print('evaluate: %d jobs running (logs in %s until they finish)' % (args.jobs, workdir),
+          file=sys.stderr)
+    records = []
+    for json_path, log, child in children:
+        child.wait()
+        log.close()
+        if not os.path.exists(json_path):
+            raise RuntimeError('job %s wrote no results; see %s' % (json_path, log.name))
+        with open(json_path) as record:
+            records.append(json.load(record))
+    shutil.rmtree(workdir)
+    return merged(records)
+
+
+def merged(records):
+    """(results, criteria, settings) of evaluate JSON records of one evaluation."""
+    merged_settings, results = merge_records(records)
+    return results, Criteria(**records[0]['summary']['criteria']), merged_settings
+
+
+def evaluate(args):
+    """The results, criteria and settings of one evaluation: run here, in jobs, or merged."""
+    if args.merge:
+        records = []
+        for path in args.merge:
+            with open(path) as record:
+                records.append(json.load(record))
+        return merged(records)
+    if args.jobs > 1:
+        return run_jobs(args)
+    return run(args) + (settings(args),)
+
+
+def report_repeat(first, second):
+    """Print how far a second run of the trials landed from the first; True if repeatable."""
+    comparison = compare_runs(first, second)
+    print('\nrepeat check: %d trials compared; largest final-pose difference %s mm (trial %s), '
+          '%s deg (trial %s); outcomes differ in %s; unmatched %s -> %s'
+          % (comparison['compared'], _number(comparison['max_position_diff_mm']),
+             comparison['max_position_diff_trial'], _number(comparison['max_yaw_diff_deg']),
+             comparison['max_yaw_diff_trial'], comparison['outcome_differs'] or 'none',
+             comparison['unmatched'] or 'none',
+             'repeatable' if comparison['repeatable'] else 'NOT repeatable'))
+    return comparison
+
+
+def _number(value):
+    return 'n/a' if value is None else '%.4f' % value
+
+
 def main():
     args = parse_args(rospy.myargv()[1:])
     try:
-        results, criteria = run(args)
+        results, criteria, record_settings = evaluate(args)
+        repeat = None
+        if args.repeat_check and not args.merge:
+            second, _, _ = evaluate(args)
+            repeat = report_repeat(results, second)
     except KeyboardInterrupt:
         print('evaluate: interrupted while starting the nodes', file=sys.stderr)
         sys.exit(130)
     summary = summarise(results, criteria)
     print('\nevaluate: %d trials, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, can %s'
-          % (len(results), args.min_distance, args.max_distance, args.width, args.height,
-             args.camera_height, args.camera_pitch, args.can_rgba))
+          % (len(results), record_settings['min_distance'], record_settings['max_distance'],
+             record_settings['width'], record_settings['height'],
+             record_settings['camera_height'], record_settings['camera_pitch'],
+             record_settings['can_rgba']))
     print(summary_table(summary))
     if args.json:
+        record = {'settings': record_settings, 'summary': summary,
+                  'trials': [result.as_dict() for result in results]}
+        if repeat is not None:
+            record['repeat_check'] = repeat
         with open(args.json, 'w') as output:
-            json.dump({'settings': settings(args), 'summary': summary,
-                       'trials': [result.as_dict() for result in results]}, output, indent=2)
+            json.dump(record, output, indent=2)
         print('results written to %s' % args.json)
-    sys.exit(0 if results and summary['successes'] == summary['trials'] else 1)
+    ok = bool(results) and summary['successes'] == summary['trials']
+    sys.exit(0 if ok and (repeat is None or repeat['repeatable']) else 1)
