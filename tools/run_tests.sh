@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Run every test the way ROS CI does (catkin_make run_tests, two at a time), then sum up the
-# JUnit results: unit tests (pytest), catkin_lint and each rostest.
+# JUnit results: unit tests (pytest), catkin_lint, the package tests (roslaunch-check, install
+# space) and each rostest.
 set -eu
 # shellcheck source=env.sh
 . "$(dirname "$0")/env.sh"
@@ -9,6 +10,9 @@ results="$CAN_SEEKER_WS/build/test_results/can_seeker"
 log="$CAN_SEEKER_HOME/run_tests.log"
 rm -rf "$results"
 expected=(pytest-unit.xml lint-catkin_lint.xml)
+for test_file in test/package/test_*.py; do
+  [ -e "$test_file" ] && expected+=("pytest-$(basename "$test_file" .py | sed 's/^test_//').xml")
+done
 for test_file in test/*.test; do
   [ -e "$test_file" ] && expected+=("rostest-test_$(basename "$test_file" .test).xml")
 done
