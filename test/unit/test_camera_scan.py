@@ -203,3 +203,24 @@ def test_banded_can_with_rims_is_not_an_obstacle():
     assert np.all(np.isinf(excluded.ranges))
     included = CameraScanner(exclude_can=False).scan(image, POSE, INTRINSICS)
     assert included.obstacle_rows[155] == 150
+
+
+def test_floor_hidden_behind_the_can_is_not_measured():
+    """A wall touching the top of the can: its base behind the can is NaN, beside it a range."""
+    image = banded_can_scene()
+    image[40:101, :] = (40, 40, 40)                     # a wall standing on row 100
+    result = CameraScanner().scan(image, POSE, INTRINSICS)
+    geometry = CameraScanner().geometry_for(POSE, INTRINSICS)
+    angles = bin_angles(geometry)
+    can_left, can_right = (math.atan2(*floor_point(POSE, INTRINSICS, u, 150.5)[::-1])
+                           for u in (149.5, 165.5))
+    hidden = (angles < can_left - 0.01) & (angles > can_right + 0.01)
+    assert hidden.any() and np.all(np.isnan(result.ranges[hidden]))
+    beside = (angles > can_left + 0.05) | (angles < can_right - 0.05)
+    wall_x = floor_point(POSE, INTRINSICS, INTRINSICS.cx, 100.5)[0]   # a row is a line x = c
+    beside &= np.abs(angles) < 0.4
+    assert np.allclose(result.ranges[beside], wall_x / np.cos(angles[beside]), rtol=0.01)
+    clear = banded_can_scene()
+    clear[40:80, :] = (40, 40, 40)                      # floor seen between can and wall
+    ranges = CameraScanner().scan(clear, POSE, INTRINSICS).ranges
+    assert not np.isnan(ranges).any() and np.isfinite(ranges[hidden]).all()

@@ -11,7 +11,8 @@ the obstacle's base; +inf where the camera sees floor up to the scan's range_max
 view); angles span the camera's view as seen from that origin, increasing to the left
 (REP-103). range_max is the farthest floor distance in view (capped by ``max_range``);
 range_min the nearest. An obstacle already at the image's bottom edge is reported at the
-bottom row's floor distance: it is at most that far.
+bottom row's floor distance: it is at most that far. The target can is no obstacle; where it
+hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
 """
 import math
 from dataclasses import dataclass
@@ -107,39 +108,82 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
                         float(np.nanmax(range_m[in_range])))
 
 
-def lowest_obstacle_rows(obstacles: np.ndarray, in_range: np.ndarray) -> np.ndarray:
-    """Per column, the lowest row (px) holding an obstacle pixel within range, -1 if none."""
+HIDDEN = -2
+"""Obstacle row of a column whose floor right behind the target can is hidden by the can."""
+
+
+def lowest_obstacle_rows(obstacles: np.ndarray, in_range: np.ndarray,
+                         can_box=None) -> np.ndarray:
+    """Per column, the lowest row (px) holding an obstacle pixel within range, -1 if none.
+
+    Columns through ``can_box`` (x0, y0, x1, y1, inclusive; its pixels are no obstacle) with
+    nothing nearer than the can are HIDDEN when what lies right behind the can is not seen:
+    an obstacle touches the box's top, or the box reaches beyond the range or the image top.
+    """
     candidates = (obstacles > 0) & in_range
     from_bottom = np.argmax(candidates[::-1], axis=0)
     rows = candidates.shape[0] - 1 - from_bottom
-    return np.where(candidates.any(axis=0), rows, -1)
+    rows = np.where(candidates.any(axis=0), rows, -1)
+    if can_box is not None:
+        x0, y0, x1, _ = can_box
+        columns = slice(x0, x1 + 1)
+        behind = rows[columns] < y0
+        if y0 > 0:
+            behind &= (obstacles[y0 - 1, columns] > 0) | ~in_range[y0 - 1, columns]
+        rows[columns] = np.where(behind, HIDDEN, rows[columns])
+    return rows
 
 
-def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray) -> np.ndarray:
-    """LaserScan ranges (m, float32; +inf = no obstacle in view) from per-column obstacle rows.
+def _column_bins(geometry: ScanGeometry, rows: np.ndarray, columns: np.ndarray):
+    """(first, last) scan bins covered by each column's pixel at ``rows``: the bins between the
+    angles of its left and right edges, at least the bin of its centre."""
+    edges = np.stack((geometry.edge_angle_rad[rows, columns],
+                      geometry.edge_angle_rad[rows, columns + 1]))
+    centre = (geometry.angle_rad[rows, columns] - geometry.angle_min) / geometry.angle_increment
+    with np.errstate(invalid='ignore'):
+        first = np.ceil((np.nanmin(edges, axis=0) - geometry.angle_min)
+                        / geometry.angle_increment)
+        last = np.floor((np.nanmax(edges, axis=0) - geometry.angle_min)
+                        / geometry.angle_increment)
+    nearest = np.round(centre)
+    first = np.where(np.isfinite(first), np.minimum(first, nearest), nearest)
+    last = np.where(np.isfinite(last), np.maximum(last, nearest), nearest)
+    valid = np.isfinite(nearest)
+    first = np.clip(first[valid], 0, geometry.bins - 1).astype(np.int64)
+    last = np.clip(last[valid], 0, geometry.bins - 1).astype(np.int64)
+    return first, last, valid
+
+
+def _spread(first, last):
+    """(bin, column index) pairs of every bin from first to last of each column."""
+    spans = last - first + 1
+    owners = np.repeat(np.arange(first.size), spans)
+    offsets = np.arange(owners.size) - np.repeat(np.cumsum(spans) - spans, spans)
+    return first[owners] + offsets, owners
+
+
+def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray,
+                can_bottom_row: int = -1) -> np.ndarray:
+    """LaserScan ranges (m, float32) from per-column obstacle rows: +inf = no obstacle in view,
+    NaN = hidden behind the can (HIDDEN columns, seen at ``can_bottom_row``) and nothing else
+    seen in that direction.
 
     Each column's base point covers the bins between the angles of its left and right pixel
     edges (at least the bin of its centre), so a wall gives a scan without gaps.
     """
     ranges = np.full(geometry.bins, np.inf, np.float64)
+    hidden = np.flatnonzero(obstacle_rows == HIDDEN)
+    hidden_bins = np.zeros(geometry.bins, bool)
+    if hidden.size and can_bottom_row >= 0:
+        first, last, _ = _column_bins(geometry, np.full(hidden.size, can_bottom_row), hidden)
+        hidden_bins[_spread(first, last)[0]] = True
     columns = np.flatnonzero(obstacle_rows >= 0)
-    if columns.size == 0:
-        return ranges.astype(np.float32)
-    rows = obstacle_rows[columns]
-    point_range = geometry.range_m[rows, columns]
-    edges = np.stack((geometry.edge_angle_rad[rows, columns],
-                      geometry.edge_angle_rad[rows, columns + 1]))
-    centre = (geometry.angle_rad[rows, columns] - geometry.angle_min) / geometry.angle_increment
-    first = np.ceil((np.nanmin(edges, axis=0) - geometry.angle_min) / geometry.angle_increment)
-    last = np.floor((np.nanmax(edges, axis=0) - geometry.angle_min) / geometry.angle_increment)
-    nearest = np.round(centre)
-    first = np.where(np.isfinite(first), np.minimum(first, nearest), nearest)
-    last = np.where(np.isfinite(last), np.maximum(last, nearest), nearest)
-    first = np.clip(first, 0, geometry.bins - 1).astype(np.int64)
-    last = np.clip(last, 0, geometry.bins - 1).astype(np.int64)
-    for offset in range(int((last - first).max()) + 1):
-        covered = first + offset <= last
-        np.minimum.at(ranges, first[covered] + offset, point_range[covered])
+    if columns.size:
+        rows = obstacle_rows[columns]
+        first, last, valid = _column_bins(geometry, rows, columns)
+        bins, owners = _spread(first, last)
+        np.minimum.at(ranges, bins, geometry.range_m[rows, columns][valid][owners])
+    ranges[hidden_bins & np.isinf(ranges)] = np.nan
     return ranges.astype(np.float32)
 
 
@@ -173,8 +217,9 @@ def can_region(shape, box) -> np.ndarray:
 
 @dataclass
 class CameraScan:
-    """One frame's result: obstacle mask (mono8), per-column base rows (px, -1 = none),
-    scan ranges (m; None when the camera geometry is unknown), the can region (or None)."""
+    """One frame's result: obstacle mask (mono8), per-column base rows (px, -1 = none,
+    HIDDEN = behind the can), scan ranges (m; None when the camera geometry is unknown), the
+    can region (mono8, or None)."""
 
     obstacles: np.ndarray
     obstacle_rows: np.ndarray
@@ -208,18 +253,20 @@ class CameraScanner:
     def scan(self, bgr: np.ndarray, pose: Optional[CameraPose],
              intrinsics: Optional[CameraIntrinsics]) -> CameraScan:
         """Classify the frame and, with a known camera geometry of the same size, scan it."""
-        can = None
+        box = None
         if self.exclude_can:
             result = self.can_detector.detect(bgr)
             if result.blob is not None:
-                can = can_region(bgr.shape, can_box(result.mask, result.blob))
+                box = can_box(result.mask, result.blob)
+        can = None if box is None else can_region(bgr.shape, box)
         obstacles = self.floor.classify(bgr, can)
         geometry = self.geometry_for(pose, intrinsics)
         if geometry is None or geometry.range_m.shape != obstacles.shape:
-            rows = lowest_obstacle_rows(obstacles, np.ones(obstacles.shape, bool))
+            rows = lowest_obstacle_rows(obstacles, np.ones(obstacles.shape, bool), box)
             return CameraScan(obstacles, rows, None, can)
-        rows = lowest_obstacle_rows(obstacles, geometry.in_range)
-        return CameraScan(obstacles, rows, scan_ranges(geometry, rows), can)
+        rows = lowest_obstacle_rows(obstacles, geometry.in_range, box)
+        ranges = scan_ranges(geometry, rows, -1 if box is None else box[3])
+        return CameraScan(obstacles, rows, ranges, can)
 
 
 OBSTACLE_TINT_BGR = (255, 0, 255)

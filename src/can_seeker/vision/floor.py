@@ -13,7 +13,7 @@ is therefore never learned as floor, and a floor colour never seen in the refere
 stays an obstacle.
 
 The baseline, ``dark``, is the tutorial's: every pixel darker than a grey level is an obstacle.
-Both remove speckles and keep the obstacle contours above a minimum area (filled).
+Both remove speckles and keep the obstacle regions above a minimum area.
 """
 from dataclasses import dataclass
 from typing import Optional
@@ -214,13 +214,12 @@ class FloorClassifier:
         self.model_updated = True
 
     def _obstacle_regions(self, raw):
-        """Speckles opened away; outer contours of at least the minimum area, filled."""
+        """Speckles opened away; connected regions of at least the minimum area."""
         opened = cv2.morphologyEx(raw, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
-        contours, _ = cv2.findContours(opened, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+        count, labels, stats, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
         min_area_px = self.settings.min_obstacle_area * raw.shape[0] * raw.shape[1]
-        kept = [contour for contour in contours if cv2.contourArea(contour) >= min_area_px]
-        self.contours = kept
-        regions = np.zeros_like(raw)
-        if kept:
-            cv2.drawContours(regions, kept, -1, 255, cv2.FILLED)
-        return regions
+        keep = stats[:, cv2.CC_STAT_AREA] >= max(1.0, min_area_px)
+        keep[0] = False
+        if count <= 1 or keep[1:].all():
+            return opened
+        return np.where(keep[labels], 255, 0).astype(np.uint8)
