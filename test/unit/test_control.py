@@ -15,7 +15,8 @@ DT = 1.0 / DEFAULTS['rate']
 
 
 def make_controller(**overrides):
-    return Controller(SimpleNamespace(**dict(DEFAULTS, **overrides)))
+    """A controller without obstacle sensing (the direct law), unless overridden."""
+    return Controller(SimpleNamespace(**dict(DEFAULTS, scan_topic='', **overrides)))
 
 
 def ahead(gap_m, bearing_deg=0.0):

@@ -3,14 +3,24 @@
 State machine (the ``can_stopper`` node feeds it detections and asks it for a command at a
 fixed rate):
 
-- SEARCH: turn in place toward the side the can was last seen (left at start).
+- SEARCH: turn in place toward the side the can was last seen (left at start); after a full
+  turn (odom yaw) without the can, EXPLORE.
+- EXPLORE: drive on grid paths to the nearest floor the camera has not covered yet (frontier
+  exploration, :mod:`can_seeker.control.navigation`); at the goal, SEARCH again.
 - APPROACH: steer on the bearing, drive at a speed set by the gap error, slow down near the
-  target so the acceleration limit can stop it without overshoot, back up if too close.
+  target so the acceleration limit can stop it without overshoot, back up if too close; while
+  obstacles lie between the robot and the can, follow a grid path around them.
 - STOPPED: hold zero; drive again only when the can moves away beyond a hysteresis band;
   when the can has not been seen (with a range) for ``vanish_timeout``, LOST: it was taken away.
-- LOST: the can left the view during APPROACH (or vanished while STOPPED): turn toward the
-  side where it was last seen; after
+- LOST: the can left the view during APPROACH (or vanished while STOPPED): go back toward where
+  it was last seen (turn toward the side where it was without odometry); after
   ``lost_timeout`` without it, SEARCH.
+- WANDER (``behaviour`` wander, no can): drive straight, turn away from obstacles ahead.
+
+With a range scan (``scan_topic``), every command passes a safety layer: the forward speed is
+capped by the free travel along the command's arc (live scan plus remembered obstacles, the
+can excluded while it is the target), so the robot never drives into anything it sensed. A
+stale scan or odometry allows no forward motion.
 
 A detection message that is too old (``detection_timeout``) gives a zero command whatever the
 state: a dead camera pipeline must never leave the robot driving.
@@ -28,7 +38,11 @@ from dataclasses import dataclass
 from typing import Optional, Tuple
 
 from can_seeker.camera_geometry import CameraPose
+import numpy as np
+
 from can_seeker.params import Param
+from can_seeker.control import avoidance
+from can_seeker.control.navigation import GOAL_REACHED_M, CameraView, Navigator, Pose2D
 from can_seeker.control.twist_limits import TwistLimits, limit_twist
 
 PARAMS = (
@@ -75,19 +89,59 @@ PARAMS = (
           'no detection message for this long: zero Twist until one arrives (s)', 0.05, 10.0),
     Param('robot_radius', 0.165, 'radius of the robot body about base_link (m)', 0.0, 2.0),
     Param('can_radius', 0.033, 'radius of the can (m)', 0.0, 0.5),
+    Param('can_height', 0.122, 'height of the can, for the floor the camera covers (m)',
+          0.0, 2.0),
     Param('camera_x', 0.12,
           'camera x in base_link, used only while TF has no base_link -> camera transform (m)',
           -2.0, 2.0),
+    Param('behaviour', 'seek',
+          'seek: search, explore, approach the can and stop; wander: drive around and turn '
+          'away from obstacles, no can', choices=('seek', 'wander')),
+    Param('scan_topic', '/camera_scan',
+          'sensor_msgs/LaserScan of obstacles (camera scan or lidar, any frame in TF); empty: '
+          'no obstacle sensing, no exploration'),
+    Param('odom_topic', '/odom', 'nav_msgs/Odometry of the robot in the odom frame'),
+    Param('scan_timeout', 0.5, 'no scan for this long: no forward motion (s)', 0.05, 10.0),
+    Param('odom_timeout', 0.5, 'no odometry for this long: no exploring or path driving (s)',
+          0.05, 10.0),
+    Param('grid_resolution', 0.1, 'cell size of the odom-frame obstacle and coverage grid (m)',
+          0.02, 1.0),
+    Param('map_size', 20.0, 'side of the square grid about the odom origin (m)', 2.0, 200.0),
+    Param('coverage_range', 2.5,
+          'farthest floor the camera counts as covered, where it still finds the can (m)',
+          0.3, 20.0),
+    Param('plan_margin', 0.15, 'clearance kept from obstacles on planned paths, beyond '
+          'robot_radius (m)', 0.0, 1.0),
+    Param('safety_margin', 0.05, 'clearance the safety layer keeps from any sensed obstacle, '
+          'beyond robot_radius (m)', 0.0, 1.0),
+    Param('explore_linear', 0.3, 'cruise speed while exploring, on paths and wandering (m/s)',
+          0.01, 2.0),
+    Param('explore_turn_cost', 0.3, 'exploration prefers goals ahead: metres of path one '
+          'radian of turning is worth (m/rad)', 0.0, 10.0),
+    Param('replan_period', 1.0, 'paths and exploration goals are planned again this often (s)',
+          0.1, 10.0),
+    Param('can_exclusion_radius', 0.15, 'range returns within this of the target can\'s '
+          'estimated centre are the can, not an obstacle (m)', 0.0, 1.0),
+    Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
+          'ahead (m)', 0.05, 5.0),
 )
+
+
+FRONTIER_MIN_UNSEEN = 6
+SAFETY_RESERVE_M = 0.03
+STALL_CELLS = 5
+STALL_S = 6.0
 
 
 class State(enum.Enum):
     """Controller states, published by name on ``~state``."""
 
     SEARCH = 'SEARCH'
+    EXPLORE = 'EXPLORE'
     APPROACH = 'APPROACH'
     STOPPED = 'STOPPED'
     LOST = 'LOST'
+    WANDER = 'WANDER'
 
 
 @dataclass(frozen=True)
@@ -163,10 +217,12 @@ def dead_band(error: float, band: float, gain: float, minimum: float) -> float:
 
 
 class Controller:
-    """The SEARCH/APPROACH/STOPPED/LOST state machine with its control law and limits.
+    """The SEARCH/EXPLORE/APPROACH/STOPPED/LOST (or WANDER) state machine with its control law,
+    limits and safety layer.
 
     Times are seconds on one clock (sim time in the node). Call :meth:`observe` for every
-    detection message (found or not) and :meth:`command` at the control rate.
+    detection message (found or not), :meth:`observe_pose` for odometry,
+    :meth:`observe_scan` for range scans, and :meth:`command` at the control rate.
     """
 
     def __init__(self, config):
@@ -174,45 +230,81 @@ class Controller:
         self.config = config
         self.limits = TwistLimits(config.max_linear, config.max_reverse, config.max_angular,
                                   config.max_linear_accel, config.max_angular_accel)
+        self.navigator = Navigator(config.grid_resolution, config.map_size, config.robot_radius,
+                                   config.plan_margin, config.safety_margin)
+        self.camera_view: Optional[CameraView] = None
         self.reset()
 
+    @property
+    def wander(self) -> bool:
+        return self.config.behaviour == 'wander'
+
+    @property
+    def senses_obstacles(self) -> bool:
+        return bool(self.config.scan_topic)
+
     def reset(self, now_s: float = -math.inf) -> None:
-        """Back to SEARCH (turning left), at rest, with no detection seen yet.
+        """Back to SEARCH (turning left), at rest, with no detection seen yet and an empty map.
 
         Detections of images taken before ``now_s`` show the world before the reset (the can
         may have been moved since) and are ignored.
         """
         self.ignore_before_s = now_s
-        self.state = State.SEARCH
+        self.state = State.WANDER if self.wander else State.SEARCH
         self.turn_sign = 1.0
         self.sighting: Optional[Sighting] = None
+        self.can_xy: Optional[Tuple[float, float]] = None
         self.last_message_s: Optional[float] = None
         self.lost_since_s = 0.0
         self.seen_since_stop_s = 0.0
         self.last_command: Tuple[float, float] = (0.0, 0.0)
         self.last_command_s: Optional[float] = None
+        self.navigator.reset()
+        self.pose_s: Optional[float] = None
+        self.scan_s: Optional[float] = None
+        self.searched_rad = 0.0
+        self.goal_xy: Optional[np.ndarray] = None
+        self.path_xy: Optional[np.ndarray] = None
+        self.planned_s = -math.inf
+        self.progress: Optional[Tuple[int, float]] = None
+
+    # Inputs ----------------------------------------------------------------------------------
 
     def _errors(self) -> Tuple[float, float]:
         """(gap error m, bearing rad) of the current sighting."""
         return self.sighting.gap_m - self.config.stop_distance, self.sighting.bearing_rad
 
+    def _enter(self, state: State) -> None:
+        self.state = state
+        self.searched_rad = 0.0
+        self.goal_xy = None
+        self.path_xy = None
+        self.progress = None
+
     def observe(self, sighting: Optional[Sighting], now_s: float,
                 image_stamp_s: float = math.inf) -> None:
         """Take one detection message received at ``now_s`` of an image taken at
         ``image_stamp_s``: ``sighting`` is None when it showed no can."""
-        if image_stamp_s < self.ignore_before_s:
+        if image_stamp_s < self.ignore_before_s or self.wander:
             return
         self.last_message_s = now_s
         self.sighting = sighting
+        if self.camera_view is not None:
+            self.navigator.mark_seen(self.camera_view)
         if sighting is not None and sighting.bearing_rad != 0.0:
             self.turn_sign = math.copysign(1.0, sighting.bearing_rad)
         ranged = sighting is not None and sighting.has_range
-        if self.state in (State.SEARCH, State.LOST):
+        if ranged and self.navigator.pose is not None:
+            distance = sighting.gap_m + self.config.robot_radius + self.config.can_radius
+            pose = self.navigator.pose
+            self.can_xy = (pose.x + distance * math.cos(pose.yaw + sighting.bearing_rad),
+                           pose.y + distance * math.sin(pose.yaw + sighting.bearing_rad))
+        if self.state in (State.SEARCH, State.EXPLORE, State.LOST):
             if ranged:
-                self.state = State.APPROACH
+                self._enter(State.APPROACH)
         elif self.state is State.APPROACH:
             if not ranged:
-                self.state = State.LOST
+                self._enter(State.LOST)
                 self.lost_since_s = now_s
         elif self.state is State.STOPPED:
             self._observe_stopped(ranged, now_s)
@@ -221,30 +313,56 @@ class Controller:
         """STOPPED: approach again when the can moved, LOST when it vanished for a while."""
         if not ranged:
             if now_s - self.seen_since_stop_s > self.config.vanish_timeout:
-                self.state = State.LOST
+                self._enter(State.LOST)
                 self.lost_since_s = now_s
             return
         self.seen_since_stop_s = now_s
         gap_error, bearing = self._errors()
         if (abs(gap_error) > self.config.reapproach_distance
                 or abs(bearing) > math.radians(self.config.reapproach_bearing_deg)):
-            self.state = State.APPROACH
+            self._enter(State.APPROACH)
+    def observe_pose(self, pose: Pose2D, now_s: float) -> None:
+        """Odometry: base_link's pose in odom at ``now_s``; counts the turn made in SEARCH."""
+        previous = self.navigator.pose
+        if previous is not None and self.state is State.SEARCH:
+            self.searched_rad += abs(avoidance.wrap_angle(pose.yaw - previous.yaw))
+        self.navigator.pose = pose
+        self.pose_s = now_s
+
+    def observe_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base, now_s: float):
+        """A range scan in base_link (see :meth:`Navigator.add_scan`), taken at the last pose."""
+        if self.navigator.pose is None:
+            return
+        self.navigator.add_scan(ends_base, hits, origin_base, self.navigator.pose)
+        self.scan_s = now_s
+
+    def set_camera_view(self, view: CameraView) -> None:
+        """The camera's floor footprint in base_link, for coverage."""
+        self.camera_view = view
 
     def is_stale(self, now_s: float) -> bool:
         """True when the last detection message will be older than ``detection_timeout``
         before the next control tick: a command is executed for one control period, so the
-        zero goes out no later than the timeout."""
+        zero goes out no later than the timeout. WANDER needs no detections."""
+        if self.wander:
+            return not self._fresh(self.pose_s, self.config.odom_timeout, now_s)
         return (self.last_message_s is None
                 or now_s + 1.0 / self.config.rate - self.last_message_s
                 > self.config.detection_timeout)
 
-    def desired(self) -> Tuple[float, float]:
-        """The (linear m/s, angular rad/s) the current state asks for, before limits."""
+    def _fresh(self, stamp_s: Optional[float], timeout_s: float, now_s: float) -> bool:
+        return stamp_s is not None and now_s + 1.0 / self.config.rate - stamp_s <= timeout_s
+
+    def can_navigate(self, now_s: float) -> bool:
+        """True when odometry and the scan are fresh enough to drive on grid paths."""
+        return (self.senses_obstacles and self._fresh(self.pose_s, self.config.odom_timeout, now_s)
+                and self._fresh(self.scan_s, self.config.scan_timeout, now_s))
+
+    # Behaviours ------------------------------------------------------------------------------
+
+    def _approach_law(self) -> Tuple[float, float]:
+        """The direct approach: steer on the bearing, speed from the gap error."""
         config = self.config
-        if self.state in (State.SEARCH, State.LOST):
-            return 0.0, self.turn_sign * config.search_angular
-        if self.state is State.STOPPED:
-            return 0.0, 0.0
         gap_error, bearing = self._errors()
         angular = dead_band(bearing, math.radians(config.bearing_tolerance_deg) / 2.0,
                             config.angular_gain, config.min_angular)
@@ -256,12 +374,133 @@ class Controller:
             linear = min(linear, braking_speed, config.max_linear) * heading_scale
         return linear, angular
 
+    def _follow_path(self, goal_xy, now_s: float, exclude_xy=None) -> Optional[Tuple[float, float]]:
+        """Drive along a grid path to ``goal_xy`` (planned again every ``replan_period``), or
+        None when no path reaches it."""
+        config = self.config
+        if self.path_xy is None or now_s - self.planned_s >= config.replan_period:
+            self.path_xy = self.navigator.path_to(goal_xy, exclude_xy, config.can_exclusion_radius)
+            self.planned_s = now_s
+        if self.path_xy is None:
+            return None
+        return self.navigator.follow(self.path_xy, config.explore_linear,
+                                     math.radians(config.turn_in_place_deg), config.angular_gain)
+
+    def _explore(self, now_s: float) -> Tuple[float, float]:
+        """Head for the nearest floor not covered yet; SEARCH again on arrival."""
+        navigator, config = self.navigator, self.config
+        if (self.goal_xy is None or navigator.is_seen(self.goal_xy)
+                or now_s - self.planned_s >= config.replan_period):
+            self.goal_xy = navigator.frontier(config.explore_turn_cost, FRONTIER_MIN_UNSEEN)
+            self.path_xy = None
+            if self.goal_xy is None:
+                navigator.grid.forget_coverage()
+                self._enter(State.SEARCH)
+                return 0.0, self.turn_sign * config.search_angular
+        if navigator.distance_to(self.goal_xy) < GOAL_REACHED_M:
+            self._enter(State.SEARCH)
+            return 0.0, self.turn_sign * config.search_angular
+        command = self._follow_path(self.goal_xy, now_s)
+        if command is None:
+            navigator.give_up_on(self.goal_xy)
+            self.goal_xy = None
+            return 0.0, 0.0
+        return command
+
+    def _toward_can(self, now_s: float) -> Tuple[float, float]:
+        """APPROACH: the direct law, or a path around obstacles between the robot and the can."""
+        if (self.can_xy is not None and self.can_navigate(now_s)
+                and self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
+                                                         self.config.can_exclusion_radius)):
+            command = self._follow_path(self.can_xy, now_s, self.can_xy)
+            if command is not None:
+                return command
+        self.path_xy = None
+        return self._approach_law()
+
+    def _lost(self, now_s: float) -> Tuple[float, float]:
+        """LOST: back toward where the can was, else turn toward the side it left."""
+        config = self.config
+        turning = 0.0, self.turn_sign * config.search_angular
+        if self.can_xy is None or not self.can_navigate(now_s):
+            return turning
+        pose = self.navigator.pose
+        can_base = avoidance.to_frame(np.array(self.can_xy), pose.x, pose.y, pose.yaw)[0]
+        reach_m = config.robot_radius + config.can_radius + config.stop_distance
+        if np.hypot(*can_base) < reach_m + GOAL_REACHED_M:
+            return avoidance.steer_to_point(can_base, 0.0, 1.0, config.angular_gain)
+        command = self._follow_path(self.can_xy, now_s, self.can_xy)
+        return turning if command is None else command
+
+    def _wander(self) -> Tuple[float, float]:
+        """WANDER: straight on while the way ahead is clear, else turn away in place."""
+        config = self.config
+        points = self.navigator.obstacles_base()
+        ahead_m = avoidance.free_travel_m(points, config.explore_linear, 0.0,
+                                          config.robot_radius + config.safety_margin,
+                                          config.wander_clearance)
+        if ahead_m >= config.wander_clearance:
+            return config.explore_linear, 0.0
+        if self.last_command[1] != 0.0:
+            return 0.0, math.copysign(config.search_angular, self.last_command[1])
+        self.turn_sign = avoidance.open_turn_sign(points, self.turn_sign)
+        return 0.0, self.turn_sign * config.search_angular
+
+    def desired(self, now_s: float = 0.0) -> Tuple[float, float]:
+        """The (linear m/s, angular rad/s) the current state asks for, before limits."""
+        config = self.config
+        if self.state is State.WANDER:
+            return self._wander()
+        if self.state is State.SEARCH:
+            if self.searched_rad >= 2.0 * math.pi and self.can_navigate(now_s):
+                self._enter(State.EXPLORE)
+            else:
+                return 0.0, self.turn_sign * config.search_angular
+        if self.state is State.EXPLORE:
+            if not self.can_navigate(now_s):
+                return 0.0, 0.0
+            return self._explore(now_s)
+        if self.state is State.LOST:
+            return self._lost(now_s)
+        if self.state is State.STOPPED:
+            return 0.0, 0.0
+        return self._toward_can(now_s)
+
+    def _safe(self, command: Tuple[float, float], now_s: float) -> Tuple[float, float]:
+        """The safety layer: forward speed within what the sensed obstacles allow."""
+        linear, angular = command
+        if not self.senses_obstacles or linear <= 0.0:
+            return command
+        if not (self._fresh(self.scan_s, self.config.scan_timeout, now_s)
+                and self._fresh(self.pose_s, self.config.odom_timeout, now_s)):
+            return 0.0, angular
+        exclude = self.can_xy if self.state in (State.APPROACH, State.LOST) else None
+        free_m = self.navigator.free_travel_m(command, exclude, self.config.can_exclusion_radius)
+        return (avoidance.safe_linear(linear, free_m, self.config.max_linear_accel,
+                                      SAFETY_RESERVE_M), angular)
+
     def _settled(self, command: Tuple[float, float]) -> bool:
         """True when APPROACH has arrived: within both tolerances and at rest."""
         gap_error, bearing = self._errors()
         return (command == (0.0, 0.0)
                 and abs(gap_error) <= self.config.distance_tolerance
                 and abs(bearing) <= math.radians(self.config.bearing_tolerance_deg))
+
+    def _note_progress(self, now_s: float) -> None:
+        """EXPLORE gives up its goal when the camera has covered fewer than
+        ``STALL_CELLS`` new cells in ``STALL_S`` (the goal cannot be seen from where the robot
+        can go, or the safety layer keeps it from getting there)."""
+        if self.state is not State.EXPLORE:
+            self.progress = None
+            return
+        covered = int(np.count_nonzero(self.navigator.grid.seen))
+        if self.progress is None or covered >= self.progress[0] + STALL_CELLS:
+            self.progress = (covered, now_s)
+        elif now_s - self.progress[1] > STALL_S:
+            if self.goal_xy is not None:
+                self.navigator.give_up_on(self.goal_xy)
+            self.goal_xy = None
+            self.progress = (covered, now_s)
 
     def command(self, now_s: float) -> Tuple[float, float]:
         """The (linear m/s, angular rad/s) command to send at ``now_s``."""
@@ -271,15 +510,19 @@ class Controller:
             self.last_command = (0.0, 0.0)
             return self.last_command
         if self.state is State.LOST and now_s - self.lost_since_s > self.config.lost_timeout:
-            self.state = State.SEARCH
-        linear, angular = limit_twist(self.last_command, self.desired(), dt_s, self.limits)
+            self._enter(State.SEARCH)
+        desired = self.desired(now_s)
+        desired = self._safe(desired, now_s)
+        linear, angular = self._safe(limit_twist(self.last_command, desired, dt_s, self.limits),
+                                     now_s)
+        self._note_progress(now_s)
         # Never forward while closer than stop_distance, even if braking exceeds the limit.
-        if self.sighting is not None and self.sighting.has_range and linear > 0.0:
+        if (self.state is not State.WANDER and self.sighting is not None
+                and self.sighting.has_range and linear > 0.0):
             if self.sighting.gap_m < self.config.stop_distance:
                 linear = 0.0
         self.last_command = (linear, angular)
         if self.state is State.APPROACH and self._settled(self.last_command):
-            self.state = State.STOPPED
+            self._enter(State.STOPPED)
             self.seen_since_stop_s = now_s
         return self.last_command
-

@@ -1,29 +1,41 @@
 """can_stopper: drive the robot to the can seen by image_converter and stop just in front of it.
 
-Subscribes ``/image_converter/detection`` (can_seeker/CanDetection), publishes ``/cmd_vel``
-(geometry_msgs/Twist) and ``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the same command
-stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep`` once per
+Subscribes ``/image_converter/detection`` (can_seeker/CanDetection), ``camera_info``
+(sensor_msgs/CameraInfo, for the floor the camera covers), ``~odom_topic`` (nav_msgs/Odometry)
+and ``~scan_topic`` (sensor_msgs/LaserScan of obstacles, any frame in TF); publishes
+``/cmd_vel`` (geometry_msgs/Twist) and ``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the same
+command stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep`` once per
 detection, stamped like its image; ``~state`` (std_msgs/String, latched); ``~reset``
-(std_srvs/Empty) returns to SEARCH. The behaviour is :mod:`can_seeker.control.controller`.
+(std_srvs/Empty) returns to SEARCH and forgets the map. The behaviour is
+:mod:`can_seeker.control.controller`.
 """
+import math
 import threading
 import time
 
+import numpy as np
 import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist, TwistStamped
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import CameraInfo, LaserScan
 from std_msgs.msg import String
 from std_srvs.srv import Empty, EmptyResponse
 
-from can_seeker.camera_geometry import camera_pose_from_transform
+from can_seeker.camera_geometry import (camera_pose_from_transform, intrinsics_from_k,
+                                        yaw_from_quaternion)
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
                                 detection_problem, sighting_from_detection)
+from can_seeker.control.navigation import Pose2D, camera_view
+from can_seeker.control.scan_points import scan_rays
 from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
 
 BASE_FRAME = 'base_link'
 SHUTDOWN_ZERO_COUNT = 5
 SHUTDOWN_ZERO_SPACING_S = 0.02
+TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+             tf2_ros.ExtrapolationException, tf2_ros.InvalidArgumentException)
 
 
 def twist(linear, angular):
@@ -43,6 +55,7 @@ class CanStopperNode:
         self.lock = threading.Lock()
         self.shutting_down = False
         self.camera_poses = {}
+        self.sensor_poses = {}
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
@@ -53,8 +66,73 @@ class CanStopperNode:
         rospy.Service('~reset', Empty, self.on_reset)
         rospy.Subscriber('/image_converter/detection', CanDetection, self.on_detection,
                          queue_size=1, tcp_nodelay=True)
+        rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
+        rospy.Subscriber(self.params.odom_topic, Odometry, self.on_odom, queue_size=1,
+                         tcp_nodelay=True)
+        if self.params.scan_topic:
+            rospy.Subscriber(self.params.scan_topic, LaserScan, self.on_scan, queue_size=1,
+                             tcp_nodelay=True)
         rospy.on_shutdown(self.on_shutdown)
         self.timer = rospy.Timer(rospy.Duration(1.0 / self.params.rate), self.on_timer)
+
+    def sensor_pose(self, frame_id):
+        """The full pose (CameraPose: position, rotation) of a frame in base_link from TF,
+        cached (sensors are fixed on the robot), or None while TF does not have it."""
+        if frame_id in self.sensor_poses:
+            return self.sensor_poses[frame_id]
+        try:
+            transform = self.tf_buffer.lookup_transform(BASE_FRAME, frame_id, rospy.Time(0))
+        except TF_ERRORS as error:
+            rospy.logwarn_throttle(5.0, 'can_stopper: no TF %s -> %r yet (%s)'
+                                   % (BASE_FRAME, frame_id, error))
+            return None
+        translation, rotation = transform.transform.translation, transform.transform.rotation
+        pose = camera_pose_from_transform((translation.x, translation.y, translation.z),
+                                          (rotation.x, rotation.y, rotation.z, rotation.w))
+        self.sensor_poses[frame_id] = pose
+        return pose
+
+    def on_camera_info(self, info):
+        """The camera's floor footprint, once per camera frame (for the coverage grid)."""
+        if self.controller.camera_view is not None:
+            return
+        pose = self.sensor_pose(info.header.frame_id)
+        if pose is None:
+            return
+        try:
+            intrinsics = intrinsics_from_k(info.width, info.height, info.K)
+        except ValueError as error:
+            rospy.logerr_throttle(5.0, 'can_stopper: bad camera_info: %s' % error)
+            return
+        view = camera_view(pose, intrinsics, self.params.coverage_range, self.params.can_height)
+        rospy.loginfo('can_stopper: camera covers %.2f-%.2f m, +-%.1f deg'
+                      % (view.near_m, view.far_m, math.degrees(view.half_fov_rad)))
+        with self.lock:
+            self.controller.set_camera_view(view)
+
+    def on_odom(self, odom):
+        pose = odom.pose.pose
+        orientation = pose.orientation
+        yaw = yaw_from_quaternion(orientation.x, orientation.y, orientation.z, orientation.w)
+        if not all(math.isfinite(v) for v in (pose.position.x, pose.position.y, yaw)):
+            rospy.logerr_throttle(5.0, 'can_stopper: ignoring odometry with a non-finite pose')
+            return
+        with self.lock:
+            self.controller.observe_pose(Pose2D(pose.position.x, pose.position.y, yaw),
+                                         rospy.get_time())
+
+    def on_scan(self, scan):
+        """A range scan: its rays into base_link through the sensor's pose in TF."""
+        sensor = self.sensor_pose(scan.header.frame_id)
+        if sensor is None:
+            return
+        ends, hits = scan_rays(scan.angle_min, scan.angle_increment, scan.ranges,
+                               scan.range_min, scan.range_max)
+        ends_3d = np.column_stack((ends, np.zeros(len(ends)))) @ sensor.rotation.T \
+            + np.asarray(sensor.position)
+        with self.lock:
+            self.controller.observe_scan(ends_3d[:, :2], hits, sensor.position[:2],
+                                         rospy.get_time())
 
     def camera_pose(self, frame_id):
         """The camera's floor pose in base_link, from TF once per frame, else from params."""
@@ -62,8 +140,7 @@ class CanStopperNode:
             return self.camera_poses[frame_id]
         try:
             transform = self.tf_buffer.lookup_transform(BASE_FRAME, frame_id, rospy.Time(0))
-        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
-                tf2_ros.ExtrapolationException, tf2_ros.InvalidArgumentException) as error:
+        except TF_ERRORS as error:
             rospy.logwarn_throttle(5.0, 'can_stopper: no TF %s -> %r yet (%s); using camera_x '
                                    '%.3f m' % (BASE_FRAME, frame_id, error, self.params.camera_x))
             return CameraFloorPose(self.params.camera_x, 0.0, 0.0)
@@ -119,8 +196,10 @@ class CanStopperNode:
                 # Leaves the controller's command history alone: its timing stays the frames'.
                 self.publish_command((0.0, 0.0), rospy.Time.from_sec(now))
         if stale:
-            rospy.logwarn_throttle(5.0, 'can_stopper: no detection for over %.2f s: zero Twist'
-                                   % self.params.detection_timeout)
+            rospy.logwarn_throttle(5.0, 'can_stopper: no %s for over %.2f s: zero Twist'
+                                   % (('odometry', self.params.odom_timeout)
+                                      if self.controller.wander
+                                      else ('detection', self.params.detection_timeout)))
         self.publish_state()
 
     def publish_state(self, force=False):

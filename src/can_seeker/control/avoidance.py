@@ -1,0 +1,133 @@
+"""Never touch anything: forward speed limited by the free distance along the robot's path.
+
+Obstacles are points on the floor in base_link (x forward, y left). The robot is a circle of
+``radius_m`` about base_link, so turning in place can never hit anything it does not touch
+already; driving sweeps a corridor along the arc of the commanded (linear, angular). The free
+travel is how far the robot can go along that arc before its circle, grown by a margin, would
+touch a point; the speed is capped so the deceleration limit stops it within that distance.
+"""
+import math
+from typing import Sequence, Tuple
+
+import numpy as np
+
+ARC_STEP_M = 0.02
+
+
+def arc_poses(linear: float, angular: float, length_m: float) -> np.ndarray:
+    """(x, y) of base_link after travelling 0, step, ... ``length_m`` along the arc of a
+    (linear, angular) command (M x 2, base_link at the start)."""
+    travel = np.arange(0.0, length_m + 1e-9, ARC_STEP_M)
+    curvature = angular / linear if linear > 1e-6 else 0.0
+    if abs(curvature) < 1e-6:
+        return np.stack((travel, np.zeros_like(travel)), axis=-1)
+    heading = curvature * travel
+    return np.stack((np.sin(heading) / curvature, (1.0 - np.cos(heading)) / curvature), axis=-1)
+
+
+def free_travel_m(points: np.ndarray, linear: float, angular: float, clearance_m: float,
+                  horizon_m: float) -> float:
+    """How far base_link can move along the command's arc (m, up to ``horizon_m``) before a
+    point comes within ``clearance_m`` of it. Points already within the clearance and not
+    behind the robot stop it at once; those behind it (x <= 0) are left as it drives away."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    if len(points) == 0:
+        return horizon_m
+    poses = arc_poses(linear, angular, horizon_m)
+    leaving = (np.linalg.norm(points, axis=1) < clearance_m) & (points[:, 0] <= 0.0)
+    points = points[~leaving]
+    distances = np.linalg.norm(poses[:, None, :] - points[None, :, :], axis=-1)
+    touching = distances < clearance_m
+    blocked = np.nonzero(touching.any(axis=1))[0]
+    if len(blocked) == 0:
+        return horizon_m
+    return max(0.0, float(blocked[0] - 1) * ARC_STEP_M)
+
+
+def safe_linear(linear: float, free_m: float, decel_mps2: float, reserve_m: float) -> float:
+    """Forward speed capped so braking at ``decel_mps2`` stops ``reserve_m`` short of
+    ``free_m``; backing up and stopping are never limited."""
+    if linear <= 0.0:
+        return linear
+    room_m = free_m - reserve_m
+    if room_m <= 0.0:
+        return 0.0
+    return min(linear, math.sqrt(2.0 * decel_mps2 * room_m))
+
+
+def exclude_near(points: np.ndarray, centre_xy: Sequence[float], radius_m: float) -> np.ndarray:
+    """``points`` without those within ``radius_m`` of ``centre_xy`` (the target the robot is
+    meant to reach, which a range sensor sees like any obstacle)."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    far = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) > radius_m
+    return points[far]
+
+
+def to_frame(points_xy: np.ndarray, x_m: float, y_m: float, yaw_rad: float) -> np.ndarray:
+    """Points given in a parent frame, expressed in the child frame at pose (x, y, yaw)."""
+    points_xy = np.asarray(points_xy, float).reshape(-1, 2)
+    cos_yaw, sin_yaw = math.cos(yaw_rad), math.sin(yaw_rad)
+    dx, dy = points_xy[:, 0] - x_m, points_xy[:, 1] - y_m
+    return np.stack((cos_yaw * dx + sin_yaw * dy, -sin_yaw * dx + cos_yaw * dy), axis=-1)
+
+
+def from_frame(points_xy: np.ndarray, x_m: float, y_m: float, yaw_rad: float) -> np.ndarray:
+    """Points given in the child frame at pose (x, y, yaw), expressed in the parent frame."""
+    points_xy = np.asarray(points_xy, float).reshape(-1, 2)
+    cos_yaw, sin_yaw = math.cos(yaw_rad), math.sin(yaw_rad)
+    return np.stack((x_m + cos_yaw * points_xy[:, 0] - sin_yaw * points_xy[:, 1],
+                     y_m + sin_yaw * points_xy[:, 0] + cos_yaw * points_xy[:, 1]), axis=-1)
+
+
+def wrap_angle(angle_rad: float) -> float:
+    """``angle_rad`` in (-pi, pi]."""
+    return math.atan2(math.sin(angle_rad), math.cos(angle_rad))
+
+
+def steer_to_point(target_base: Tuple[float, float], cruise_mps: float, turn_in_place_rad: float,
+                   angular_gain: float) -> Tuple[float, float]:
+    """(linear, angular) that drives base_link toward a point in base_link: turn toward it,
+    forward speed falling to zero at ``turn_in_place_rad`` off."""
+    bearing = math.atan2(target_base[1], target_base[0])
+    linear = cruise_mps * max(0.0, 1.0 - abs(bearing) / turn_in_place_rad)
+    return linear, angular_gain * bearing
+
+
+def lookahead_index(path_xy: np.ndarray, position_xy: Sequence[float],
+                    lookahead_m: float) -> int:
+    """Index of the first path point at least ``lookahead_m`` from ``position_xy`` after the
+    path point nearest to it (the path's end when none is that far)."""
+    path_xy = np.asarray(path_xy, float).reshape(-1, 2)
+    distances = np.linalg.norm(path_xy - np.asarray(position_xy, float), axis=1)
+    nearest = int(np.argmin(distances))
+    ahead = np.nonzero(distances[nearest:] >= lookahead_m)[0]
+    return nearest + int(ahead[0]) if len(ahead) else len(path_xy) - 1
+
+
+def open_turn_sign(points: np.ndarray, fallback_sign: float) -> float:
+    """+1 (left) or -1 (right): the side with fewer obstacle points ahead of the robot, so a
+    blocked robot turns away from them; ``fallback_sign`` on a tie."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    ahead = points[points[:, 0] > 0.0]
+    left = int(np.sum(ahead[:, 1] > 0.0))
+    right = int(np.sum(ahead[:, 1] < 0.0))
+    if left == right:
+        return fallback_sign
+    return 1.0 if left < right else -1.0
+
+
+def clear_heading(points: np.ndarray, target_rad: float, clearance_m: float, needed_m: float,
+                  candidates: int = 24) -> float:
+    """The heading (rad, base_link) nearest to ``target_rad`` along which the robot can drive
+    straight for ``needed_m`` without coming within ``clearance_m`` of a point (a gap in the
+    scan); NaN when every direction is blocked."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    headings = np.concatenate(([target_rad], target_rad + np.linspace(
+        -math.pi, math.pi, candidates, endpoint=False)[1:]))
+    order = np.argsort(np.abs(np.arctan2(np.sin(headings - target_rad),
+                                         np.cos(headings - target_rad))), kind='stable')
+    for heading in headings[order]:
+        rotated = to_frame(points, 0.0, 0.0, float(heading))
+        if free_travel_m(rotated, 1.0, 0.0, clearance_m, needed_m) >= needed_m:
+            return float(wrap_angle(heading))
+    return math.nan

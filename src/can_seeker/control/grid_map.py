@@ -1,0 +1,124 @@
+"""What the robot has learnt about the floor, on a coarse grid in the odom frame.
+
+Two layers over the same square cells:
+
+- obstacle evidence from range scans (a hit adds, a ray passing through subtracts, both
+  clamped), so obstacles seen once stay known while they are in the camera's blind zone and
+  a moved object is cleared by the rays that later pass through its old place;
+- coverage: the floor the camera has looked at, up to the range at which it would have found
+  the can, stopping at obstacles. Exploration drives to where it has not looked yet.
+
+Arrays are indexed ``[ix, iy]``; cell (ix, iy) spans ``origin + (ix, iy) * resolution`` to one
+resolution further. Odom positions outside the grid are ignored.
+"""
+import math
+from typing import Optional, Tuple
+
+import numpy as np
+
+HIT_EVIDENCE = 3
+MISS_EVIDENCE = 1
+EVIDENCE_LIMIT = 6
+
+
+class GridMap:
+    """Obstacle evidence and camera coverage of a ``size_m`` square centred on the odom origin."""
+
+    def __init__(self, resolution_m: float, size_m: float):
+        self.resolution_m = float(resolution_m)
+        self.cells = max(1, int(math.ceil(size_m / resolution_m)))
+        self.origin_m = -self.cells * self.resolution_m / 2.0
+        self.evidence = np.zeros((self.cells, self.cells), np.int16)
+        self.seen = np.zeros((self.cells, self.cells), bool)
+
+    def clear(self) -> None:
+        """Forget every obstacle and all coverage."""
+        self.evidence[:] = 0
+        self.seen[:] = False
+
+    def forget_coverage(self) -> None:
+        """Forget where the camera looked (obstacles stay)."""
+        self.seen[:] = False
+
+    def index_of(self, xy: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(ix, iy, inside) of odom points ``xy`` (N x 2); indices are clipped where outside."""
+        ij = np.floor((np.asarray(xy, float).reshape(-1, 2) - self.origin_m)
+                      / self.resolution_m).astype(int)
+        inside = np.all((ij >= 0) & (ij < self.cells), axis=1)
+        ij = np.clip(ij, 0, self.cells - 1)
+        return ij[:, 0], ij[:, 1], inside
+
+    def cell_of(self, x_m: float, y_m: float) -> Optional[Tuple[int, int]]:
+        """The cell holding odom point (x, y), or None outside the grid."""
+        ix, iy, inside = self.index_of(np.array((x_m, y_m)))
+        return (int(ix[0]), int(iy[0])) if inside[0] else None
+
+    def centre_of(self, ix, iy) -> np.ndarray:
+        """Odom (x, y) of cell centres (arrays broadcast)."""
+        return np.stack((self.origin_m + (np.asarray(ix) + 0.5) * self.resolution_m,
+                         self.origin_m + (np.asarray(iy) + 0.5) * self.resolution_m), axis=-1)
+
+    def occupied(self) -> np.ndarray:
+        """Cells with more evidence of an obstacle than of free floor."""
+        return self.evidence > 0
+
+    def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray) -> None:
+        """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom): the floor along each ray is free,
+        its end is an obstacle where ``hits`` is true (a ray without a return ends at the range
+        it can vouch for)."""
+        ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
+        if len(ends_xy) == 0:
+            return
+        origin = np.asarray(origin_xy, float).reshape(1, 2)
+        step_m = self.resolution_m / 2.0
+        lengths = np.linalg.norm(ends_xy - origin, axis=1)
+        # free samples end one resolution short of a hit, so the hit's own cell stays occupied
+        free_lengths = np.where(hits, lengths - self.resolution_m, lengths)
+        samples = int(np.ceil(max(float(lengths.max()), step_m) / step_m)) + 1
+        fractions = np.arange(samples) * step_m
+        directions = (ends_xy - origin) / np.maximum(lengths, 1e-9)[:, None]
+        points = origin[None, :, :] + fractions[None, :, None] * directions[:, None, :]
+        keep = fractions[None, :] <= free_lengths[:, None]
+        ix, iy, inside = self.index_of(points[keep])
+        free = np.zeros_like(self.seen)
+        free[ix[inside], iy[inside]] = True
+        hit = np.zeros_like(self.seen)
+        hx, hy, hit_inside = self.index_of(ends_xy[np.asarray(hits, bool)])
+        hit[hx[hit_inside], hy[hit_inside]] = True
+        free &= ~hit
+        self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
+        self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
+
+    def mark_seen(self, camera_xy, heading_rad: float, half_fov_rad: float, near_m: float,
+                  far_m: float) -> None:
+        """Mark the floor wedge the camera covers: bearings within ``half_fov_rad`` of
+        ``heading_rad``, from ``near_m`` to ``far_m`` from ``camera_xy`` (odom), each ray
+        stopping at the first known obstacle."""
+        if far_m <= near_m:
+            return
+        step_m = self.resolution_m / 2.0
+        rays = int(math.ceil(2.0 * half_fov_rad * far_m / step_m)) + 1
+        bearings = heading_rad + np.linspace(-half_fov_rad, half_fov_rad, rays)
+        distances = np.arange(0.0, far_m + 1e-9, step_m)
+        points = (np.asarray(camera_xy, float)[None, None, :]
+                  + distances[None, :, None]
+                  * np.stack((np.cos(bearings), np.sin(bearings)), axis=-1)[:, None, :])
+        ix, iy, inside = self.index_of(points.reshape(-1, 2))
+        blocked = (self.occupied()[ix, iy] | ~inside).reshape(rays, len(distances))
+        visible = ~np.maximum.accumulate(blocked, axis=1)
+        visible &= distances[None, :] >= near_m
+        visible = visible.reshape(-1)
+        self.seen[ix[visible], iy[visible]] = True
+
+    def obstacle_points(self, centre_xy, radius_m: float) -> np.ndarray:
+        """Odom centres (N x 2) of occupied cells within ``radius_m`` of ``centre_xy``."""
+        cells = int(math.ceil(radius_m / self.resolution_m)) + 1
+        cx, cy, inside = self.index_of(np.asarray(centre_xy, float))
+        if not inside[0]:
+            return np.zeros((0, 2))
+        x0, x1 = max(0, cx[0] - cells), min(self.cells, cx[0] + cells + 1)
+        y0, y1 = max(0, cy[0] - cells), min(self.cells, cy[0] + cells + 1)
+        ox, oy = np.nonzero(self.occupied()[x0:x1, y0:y1])
+        centres = self.centre_of(ox + x0, oy + y0).reshape(-1, 2)
+        near = np.linalg.norm(centres - np.asarray(centre_xy, float), axis=1) <= radius_m
+        return centres[near]

@@ -1,0 +1,251 @@
+"""Driving among obstacles: the robot's pose, its obstacle and coverage grid, paths to goals,
+frontier exploration and the safety layer, for the can_stopper controller (pure, no ROS).
+
+The navigator is fed the odom pose, range scans as points in base_link and the camera's floor
+footprint; it answers with commands that reach a goal on a grid path and with the same
+command made safe (:func:`can_seeker.control.avoidance.safe_linear` on the free travel along
+its arc through the live scan and the remembered obstacles).
+"""
+import math
+from dataclasses import dataclass
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+from can_seeker.camera_geometry import CameraIntrinsics, CameraPose, floor_point
+from can_seeker.control import avoidance, planner
+from can_seeker.control.grid_map import GridMap
+
+PLAN_MARGIN_CELLS = 10
+SAFETY_HORIZON_M = 1.0
+MEMORY_RADIUS_M = 1.2
+GOAL_REACHED_M = 0.25
+LOOKAHEAD_M = 0.5
+MIN_LOOKAHEAD_M = 0.2
+CLEAR_AHEAD_M = 0.3
+
+
+@dataclass(frozen=True)
+class Pose2D:
+    """base_link in odom: position (m) and heading (rad)."""
+
+    x: float
+    y: float
+    yaw: float
+
+
+@dataclass(frozen=True)
+class CameraView:
+    """The floor the camera covers, in base_link: from (x, y) looking along ``yaw`` (rad),
+    ``half_fov_rad`` either side, from ``near_m`` to ``far_m`` away on the floor."""
+
+    x: float
+    y: float
+    yaw: float
+    half_fov_rad: float
+    near_m: float
+    far_m: float
+
+
+def camera_view(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: float,
+                target_height_m: float) -> CameraView:
+    """The camera's floor footprint for finding a target ``target_height_m`` tall: its
+    horizontal field of view, from where the target's top enters the image's bottom row to
+    where the top row meets the floor (at most ``max_range_m``, where the target is still
+    found), measured from the camera's floor point."""
+    half_fov = math.atan2(intrinsics.width / 2.0, intrinsics.fx)
+    camera_xy = np.array(pose.position[:2], float)
+
+    def floor_distance(v_px: float) -> Optional[float]:
+        point = floor_point(pose, intrinsics, intrinsics.cx, v_px)
+        return None if point is None else float(np.linalg.norm(np.array(point) - camera_xy))
+
+    near = floor_distance(intrinsics.height - 1.0)
+    far = floor_distance(0.0)
+    far_m = max_range_m if far is None else min(far, max_range_m)
+    near_m = 0.0
+    if near is not None and pose.height_m > 0.0:
+        near_m = near * max(0.0, 1.0 - target_height_m / pose.height_m)
+    return CameraView(float(camera_xy[0]), float(camera_xy[1]), pose.heading_rad, half_fov,
+                      near_m, far_m)
+
+
+class Navigator:
+    """Grid world model and the motions built on it. Units: m, rad, s; poses in odom."""
+
+    def __init__(self, resolution_m: float, size_m: float, robot_radius_m: float,
+                 plan_margin_m: float, safety_margin_m: float):
+        self.grid = GridMap(resolution_m, size_m)
+        self.robot_radius_m = robot_radius_m
+        self.plan_margin_m = plan_margin_m
+        self.safety_margin_m = safety_margin_m
+        self.pose: Optional[Pose2D] = None
+        self.scan_points = np.zeros((0, 2))
+        self.scan_pose: Optional[Pose2D] = None
+
+    def reset(self) -> None:
+        """Forget the map, the pose and the last scan."""
+        self.grid.clear()
+        self.pose = None
+        self.scan_points = np.zeros((0, 2))
+        self.scan_pose = None
+
+    def add_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base: Sequence[float],
+                 pose: Pose2D) -> None:
+        """One range scan taken at ``pose``: the end of every ray in base_link (N x 2), where
+        ``hits`` marks a return (else the ray ends at the range it vouches for), from the
+        sensor at ``origin_base``."""
+        ends = np.asarray(ends_base, float).reshape(-1, 2)
+        hits = np.asarray(hits, bool).reshape(-1)
+        self.scan_points = ends[hits]
+        self.scan_pose = pose
+        origin = avoidance.from_frame(np.asarray(origin_base, float), pose.x, pose.y, pose.yaw)
+        self.grid.add_scan(origin[0], avoidance.from_frame(ends, pose.x, pose.y, pose.yaw), hits)
+
+    def mark_seen(self, view: CameraView) -> None:
+        """The camera covered its footprint from the current pose."""
+        if self.pose is None:
+            return
+        pose = self.pose
+        camera_xy = avoidance.from_frame(np.array((view.x, view.y)), pose.x, pose.y, pose.yaw)[0]
+        self.grid.mark_seen(camera_xy, pose.yaw + view.yaw, view.half_fov_rad, view.near_m,
+                            view.far_m)
+
+    def obstacles_base(self, exclude_xy: Optional[Sequence[float]] = None,
+                       exclude_radius_m: float = 0.0) -> np.ndarray:
+        """Obstacle points in base_link now: the last scan (moved by the motion since) and the
+        remembered obstacles around the robot, without those near ``exclude_xy`` (odom)."""
+        pose = self.pose
+        if pose is None:
+            return np.zeros((0, 2))
+        points = [self.grid.obstacle_points((pose.x, pose.y), MEMORY_RADIUS_M)]
+        if self.scan_pose is not None and len(self.scan_points):
+            scan = self.scan_pose
+            points.append(avoidance.from_frame(self.scan_points, scan.x, scan.y, scan.yaw))
+        odom_points = np.concatenate(points)
+        if exclude_xy is not None:
+            odom_points = avoidance.exclude_near(odom_points, exclude_xy, exclude_radius_m)
+        return avoidance.to_frame(odom_points, pose.x, pose.y, pose.yaw)
+
+    def free_travel_m(self, command: Tuple[float, float], exclude_xy=None,
+                      exclude_radius_m: float = 0.0) -> float:
+        """Free travel along the command's arc (m, up to the safety horizon)."""
+        return avoidance.free_travel_m(self.obstacles_base(exclude_xy, exclude_radius_m),
+                                       command[0], command[1],
+                                       self.robot_radius_m + self.safety_margin_m,
+                                       SAFETY_HORIZON_M)
+
+    def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
+                      margin_m: Optional[float] = None) -> np.ndarray:
+        """Cells the robot's centre must not enter: obstacles grown by radius plus margin."""
+        occupied = self.grid.occupied()
+        if exclude_xy is not None:
+            ix, iy = np.nonzero(occupied)
+            centres = self.grid.centre_of(ix, iy).reshape(-1, 2)
+            near = np.linalg.norm(centres - np.asarray(exclude_xy, float), axis=1) \
+                <= exclude_radius_m
+            occupied = occupied.copy()
+            occupied[ix[near], iy[near]] = False
+        margin = self.plan_margin_m if margin_m is None else margin_m
+        return planner.inflate(occupied, (self.robot_radius_m + margin) / self.grid.resolution_m)
+
+    def _plan(self, goal: Optional[Tuple[int, int]], exclude_xy, exclude_radius_m: float):
+        """(window, blocked cells, wavefront distances) from the robot's cell; the margin is
+        dropped when the robot already stands inside it, so it can still leave."""
+        start = self.grid.cell_of(self.pose.x, self.pose.y)
+        if start is None:
+            return None
+        known = self.grid.seen | self.grid.occupied()
+        cells = (start,) if goal is None else (start, goal)
+        window = planner.planning_window(known, cells, PLAN_MARGIN_CELLS)
+        for margin in (self.plan_margin_m, 0.0):
+            blocked = window.crop(self.blocked_cells(exclude_xy, exclude_radius_m, margin))
+            if not blocked[window.local(start)]:
+                break
+        return window, blocked, planner.wavefront(~blocked, window.local(start))
+
+    def path_to(self, goal_xy: Sequence[float], exclude_xy=None,
+                exclude_radius_m: float = 0.0) -> Optional[np.ndarray]:
+        """Odom points of a grid path from the robot to ``goal_xy``, or None if unreachable."""
+        goal = self.grid.cell_of(goal_xy[0], goal_xy[1])
+        if self.pose is None or goal is None:
+            return None
+        plan = self._plan(goal, exclude_xy, exclude_radius_m)
+        if plan is None:
+            return None
+        window, _, distance = plan
+        local_goal = window.local(goal)
+        if not np.isfinite(distance[local_goal]):
+            return None
+        cells = [window.grid(cell) for cell in planner.descend(distance, local_goal)]
+        return self.grid.centre_of(*np.array(cells).T).reshape(-1, 2)
+
+    def frontier(self, turn_cost_m_per_rad: float, min_unseen_cells: int) -> Optional[np.ndarray]:
+        """Odom centre of the best exploration goal (see :func:`planner.frontier_goal`)."""
+        if self.pose is None:
+            return None
+        plan = self._plan(None, None, 0.0)
+        if plan is None:
+            return None
+        window, blocked, distance = plan
+        start = window.local(self.grid.cell_of(self.pose.x, self.pose.y))
+        goal = planner.frontier_goal(distance, window.crop(self.grid.seen), blocked, start,
+                                     self.pose.yaw, self.grid.resolution_m,
+                                     turn_cost_m_per_rad, min_unseen_cells,
+                                     2.0 * GOAL_REACHED_M / self.grid.resolution_m)
+        return None if goal is None else self.grid.centre_of(*window.grid(goal))
+
+    def is_seen(self, xy: Sequence[float]) -> bool:
+        """True when the camera has covered the cell of odom point ``xy``."""
+        cell = self.grid.cell_of(xy[0], xy[1])
+        return cell is None or bool(self.grid.seen[cell])
+
+    def give_up_on(self, xy: Sequence[float]) -> None:
+        """Count the cells around an unreachable goal as seen, so exploration moves on."""
+        cell = self.grid.cell_of(xy[0], xy[1])
+        if cell is not None:
+            self.grid.seen[max(0, cell[0] - 2):cell[0] + 3, max(0, cell[1] - 2):cell[1] + 3] = True
+
+    def straight_line_blocked(self, goal_xy: Sequence[float], exclude_xy=None,
+                              exclude_radius_m: float = 0.0) -> bool:
+        """True when the straight line from the robot to ``goal_xy`` crosses obstacles grown by
+        the robot's radius and the planning margin (the robot's own cell aside)."""
+        start = self.grid.cell_of(self.pose.x, self.pose.y)
+        goal = self.grid.cell_of(goal_xy[0], goal_xy[1])
+        if start is None or goal is None:
+            return False
+        blocked = self.blocked_cells(exclude_xy, exclude_radius_m)
+        blocked[start] = False
+        return planner.segment_blocked(blocked, start, goal)
+
+    def follow(self, path_xy: np.ndarray, cruise_mps: float, turn_in_place_rad: float,
+               angular_gain: float) -> Tuple[float, float]:
+        """(linear, angular) toward the path's lookahead point, brought nearer along the path
+        (down to ``MIN_LOOKAHEAD_M``) until the straight line to it clears the obstacles, so
+        the robot does not cut corners into them; then the clear heading nearest to it, so a
+        robot that has come too close to an obstacle turns to a gap instead of stalling."""
+        pose = self.pose
+        index = avoidance.lookahead_index(path_xy, (pose.x, pose.y), LOOKAHEAD_M)
+        nearest = avoidance.lookahead_index(path_xy, (pose.x, pose.y), MIN_LOOKAHEAD_M)
+        start = self.grid.cell_of(pose.x, pose.y)
+        if start is not None:
+            blocked = self.blocked_cells(margin_m=self.safety_margin_m)
+            blocked[start] = False
+            for candidate in range(index, nearest - 1, -1):
+                goal = self.grid.cell_of(*path_xy[candidate])
+                if goal is not None and not planner.segment_blocked(blocked, start, goal):
+                    index = candidate
+                    break
+        target_base = avoidance.to_frame(path_xy[index], pose.x, pose.y, pose.yaw)[0]
+        heading = avoidance.clear_heading(self.obstacles_base(),
+                                          math.atan2(target_base[1], target_base[0]),
+                                          self.robot_radius_m + self.safety_margin_m,
+                                          CLEAR_AHEAD_M)
+        if math.isnan(heading):
+            return 0.0, math.copysign(angular_gain, target_base[1] or 1.0)
+        return avoidance.steer_to_point((math.cos(heading), math.sin(heading)), cruise_mps,
+                                        turn_in_place_rad, angular_gain)
+
+    def distance_to(self, xy: Sequence[float]) -> float:
+        """Distance (m) from base_link to odom point ``xy``."""
+        return math.hypot(xy[0] - self.pose.x, xy[1] - self.pose.y)

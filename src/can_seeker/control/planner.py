@@ -1,0 +1,144 @@
+"""Paths on the obstacle grid and exploration goals (pure numpy, no ROS).
+
+Obstacles are grown by the robot's radius plus a margin (``inflate``), so the robot's centre
+may go anywhere that is not blocked. Distances from the robot's cell come from a vectorised
+wavefront (8-connected, diagonal steps cost sqrt(2)) over the known part of the grid plus a
+margin; unknown floor counts as free (it is checked again as soon as the camera sees it).
+A path is read back by steepest descent of those distances.
+"""
+import math
+from dataclasses import dataclass
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+NEIGHBOURS = ((1, 0, 1.0), (-1, 0, 1.0), (0, 1, 1.0), (0, -1, 1.0),
+              (1, 1, math.sqrt(2.0)), (1, -1, math.sqrt(2.0)),
+              (-1, 1, math.sqrt(2.0)), (-1, -1, math.sqrt(2.0)))
+
+
+def shifted(array: np.ndarray, dx: int, dy: int, fill) -> np.ndarray:
+    """``array`` moved by (dx, dy) cells: result[i, j] = array[i - dx, j - dy], ``fill`` outside."""
+    result = np.full_like(array, fill)
+    nx, ny = array.shape
+    result[max(0, dx):nx + min(0, dx), max(0, dy):ny + min(0, dy)] = \
+        array[max(0, -dx):nx - max(0, dx), max(0, -dy):ny - max(0, dy)]
+    return result
+
+
+def inflate(blocked: np.ndarray, radius_cells: float) -> np.ndarray:
+    """Cells within ``radius_cells`` (centre to centre) of a blocked cell."""
+    grown = blocked.copy()
+    reach = int(math.floor(radius_cells))
+    for dx in range(-reach, reach + 1):
+        for dy in range(-reach, reach + 1):
+            if (dx or dy) and dx * dx + dy * dy <= radius_cells * radius_cells:
+                grown |= shifted(blocked, dx, dy, False)
+    return grown
+
+
+def wavefront(free: np.ndarray, start: Tuple[int, int]) -> np.ndarray:
+    """Path length in cells from ``start`` to every cell through ``free`` cells (inf where
+    unreachable). The start counts as free."""
+    distance = np.full(free.shape, np.inf)
+    distance[start] = 0.0
+    passable = free.copy()
+    passable[start] = True
+    while True:
+        best = distance
+        for dx, dy, cost in NEIGHBOURS:
+            best = np.minimum(best, shifted(distance, dx, dy, np.inf) + cost)
+        best[~passable] = np.inf
+        best[start] = 0.0
+        if np.array_equal(best, distance):
+            return distance
+        distance = best
+
+
+def descend(distance: np.ndarray, goal: Tuple[int, int]) -> List[Tuple[int, int]]:
+    """Cells from the start (distance 0) to ``goal`` along steepest descent of ``distance``."""
+    path = [goal]
+    cell = goal
+    while distance[cell] > 0.0:
+        candidates = [(cell[0] + dx, cell[1] + dy) for dx, dy, _ in NEIGHBOURS
+                      if 0 <= cell[0] + dx < distance.shape[0]
+                      and 0 <= cell[1] + dy < distance.shape[1]]
+        nxt = min(candidates, key=lambda c: distance[c])
+        if distance[nxt] >= distance[cell]:
+            break
+        path.append(nxt)
+        cell = nxt
+    path.reverse()
+    return path
+
+
+@dataclass(frozen=True)
+class Window:
+    """A rectangle of grid cells ``[x0, x1) x [y0, y1)`` where planning happens."""
+
+    x0: int
+    x1: int
+    y0: int
+    y1: int
+
+    def crop(self, array: np.ndarray) -> np.ndarray:
+        return array[self.x0:self.x1, self.y0:self.y1]
+
+    def local(self, cell: Tuple[int, int]) -> Tuple[int, int]:
+        return cell[0] - self.x0, cell[1] - self.y0
+
+    def grid(self, cell: Tuple[int, int]) -> Tuple[int, int]:
+        return cell[0] + self.x0, cell[1] + self.y0
+
+
+def planning_window(known: np.ndarray, cells: Tuple[Tuple[int, int], ...],
+                    margin_cells: int) -> Window:
+    """The bounding box of the ``known`` cells and the given ``cells``, grown by a margin and
+    clipped to the grid: beyond it nothing is known, so nothing there is worth planning."""
+    xs, ys = np.nonzero(known)
+    xs = np.concatenate((xs, [c[0] for c in cells])).astype(int)
+    ys = np.concatenate((ys, [c[1] for c in cells])).astype(int)
+    return Window(max(0, int(xs.min()) - margin_cells),
+                  min(known.shape[0], int(xs.max()) + margin_cells + 1),
+                  max(0, int(ys.min()) - margin_cells),
+                  min(known.shape[1], int(ys.max()) + margin_cells + 1))
+
+
+def frontier_goal(distance: np.ndarray, seen: np.ndarray, blocked: np.ndarray,
+                  robot_cell: Tuple[int, int], heading_rad: float, resolution_m: float,
+                  turn_cost_m_per_rad: float, min_unseen_cells: int,
+                  min_distance_cells: float = 0.0) -> Optional[Tuple[int, int]]:
+    """The reachable, unseen, unblocked cell next to seen floor with the lowest cost: path
+    length (m) plus ``turn_cost_m_per_rad`` times the turn toward it from ``heading_rad``.
+
+    Only cells with at least ``min_unseen_cells`` unseen free cells in their 5 x 5
+    neighbourhood count, so a lone unseen cell between seen ones is no reason to drive, and
+    only those more than ``min_distance_cells`` of path away (the robot is already there).
+    """
+    unseen_free = ~seen & ~blocked
+    next_to_seen = np.zeros_like(seen)
+    for dx, dy, _ in NEIGHBOURS:
+        next_to_seen |= shifted(seen & ~blocked, dx, dy, False)
+    unseen_around = np.zeros(seen.shape, int)
+    for dx in range(-2, 3):
+        for dy in range(-2, 3):
+            unseen_around += shifted(unseen_free, dx, dy, False)
+    candidates = (unseen_free & next_to_seen & np.isfinite(distance)
+                  & (distance > min_distance_cells)
+                  & (unseen_around >= min_unseen_cells))
+    xs, ys = np.nonzero(candidates)
+    if len(xs) == 0:
+        return None
+    bearings = np.arctan2(ys - robot_cell[1], xs - robot_cell[0]) - heading_rad
+    turns = np.abs(np.arctan2(np.sin(bearings), np.cos(bearings)))
+    costs = distance[xs, ys] * resolution_m + turn_cost_m_per_rad * turns
+    best = int(np.argmin(costs))
+    return int(xs[best]), int(ys[best])
+
+
+def segment_blocked(blocked: np.ndarray, start: Tuple[int, int], end: Tuple[int, int]) -> bool:
+    """True when a blocked cell lies on the straight line between two cells (ends included)."""
+    steps = max(abs(end[0] - start[0]), abs(end[1] - start[1])) * 2 + 1
+    xs = np.rint(np.linspace(start[0], end[0], steps)).astype(int)
+    ys = np.rint(np.linspace(start[1], end[1], steps)).astype(int)
+    return bool(blocked[xs, ys].any())

@@ -1,0 +1,207 @@
+"""Obstacle grid, coverage, planning, the safety layer and exploration, without a simulator."""
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_vertical_fov
+from can_seeker.camera_mount import CameraMount
+from can_seeker.control import avoidance, planner
+from can_seeker.control.controller import PARAMS, Controller, State
+from can_seeker.control.grid_map import GridMap
+from can_seeker.control.navigation import Navigator, Pose2D, camera_view
+from can_seeker.control.scan_points import scan_rays
+from kinematic_world import ROBOT_RADIUS, World, run
+
+DEFAULTS = {spec.name: spec.default for spec in PARAMS}
+
+
+def make_controller(**overrides):
+    return Controller(SimpleNamespace(**dict(DEFAULTS, **overrides)))
+
+
+# Grid ----------------------------------------------------------------------------------------
+
+def test_scan_marks_its_hit_and_clears_the_floor_before_it():
+    grid = GridMap(0.1, 4.0)
+    grid.add_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
+    assert grid.occupied()[grid.cell_of(1.0, 0.0)]
+    assert grid.evidence[grid.cell_of(0.5, 0.0)] < 0
+    assert not grid.occupied()[grid.cell_of(0.85, 0.0)]
+
+
+def test_rays_passing_through_clear_an_obstacle_that_moved():
+    grid = GridMap(0.1, 4.0)
+    grid.add_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
+    for _ in range(3):
+        grid.add_scan((0.0, 0.0), np.array([[1.6, 0.0]]), np.array([False]))
+    assert not grid.occupied()[grid.cell_of(1.0, 0.0)]
+
+
+def test_camera_coverage_is_a_wedge_that_stops_at_obstacles():
+    grid = GridMap(0.1, 8.0)
+    grid.add_scan((0.0, 0.0), np.array([[1.05, 0.0]]), np.array([True]))
+    grid.mark_seen((0.0, 0.0), 0.0, math.radians(25.0), 0.3, 2.5)
+    assert grid.seen[grid.cell_of(0.8, 0.0)]
+    assert not grid.seen[grid.cell_of(1.8, 0.0)]          # behind the obstacle
+    assert grid.seen[grid.cell_of(2.0, 0.6)]              # beside its shadow
+    assert not grid.seen[grid.cell_of(0.1, 0.0)]          # nearer than the bottom row
+    assert not grid.seen[grid.cell_of(1.0, 1.5)]          # outside the field of view
+    assert not grid.seen[grid.cell_of(2.8, 0.0)]          # beyond the range
+
+
+def test_camera_view_of_the_default_mount():
+    pose = camera_pose_from_mount(CameraMount(0.25, 25.0))
+    view = camera_view(pose, intrinsics_from_vertical_fov(320, 240, 45.0), 2.5, 0.122)
+    assert view.x == pytest.approx(0.12)
+    assert view.half_fov_rad == pytest.approx(math.atan(160.0 / 289.706), rel=1e-3)
+    bottom_m = 0.25 / math.tan(math.radians(25.0 + 22.5))
+    assert view.near_m == pytest.approx(bottom_m * (1.0 - 0.122 / 0.25), rel=1e-2)
+    assert view.far_m == 2.5
+
+
+# Planning ------------------------------------------------------------------------------------
+
+def test_inflate_grows_by_the_radius():
+    blocked = np.zeros((11, 11), bool)
+    blocked[5, 5] = True
+    grown = planner.inflate(blocked, 2.0)
+    assert grown[5, 7] and grown[7, 5] and not grown[5, 8] and not grown[7, 7]
+
+
+def test_wavefront_path_goes_around_a_wall():
+    free = np.ones((20, 20), bool)
+    free[10, 0:15] = False
+    distance = planner.wavefront(free, (5, 5))
+    path = planner.descend(distance, (15, 5))
+    assert path[0] == (5, 5) and path[-1] == (15, 5)
+    assert all(free[cell] for cell in path)
+    assert max(cell[1] for cell in path) >= 15
+    assert distance[15, 5] > 20
+
+
+def test_unreachable_goal_has_no_path():
+    free = np.ones((10, 10), bool)
+    free[5, :] = False
+    assert not np.isfinite(planner.wavefront(free, (2, 2))[8, 2])
+
+
+def test_frontier_prefers_near_and_ahead():
+    seen = np.zeros((30, 30), bool)
+    seen[10:20, 10:20] = True
+    blocked = np.zeros_like(seen)
+    distance = planner.wavefront(~blocked, (15, 15))
+    ahead = planner.frontier_goal(distance, seen, blocked, (15, 15), 0.0, 0.1, 0.3, 6)
+    behind = planner.frontier_goal(distance, seen, blocked, (15, 15), math.pi, 0.1, 0.3, 6)
+    assert ahead[0] == 20 and behind[0] == 9
+
+
+def test_no_frontier_when_everything_reachable_was_seen():
+    seen = np.ones((20, 20), bool)
+    blocked = np.zeros_like(seen)
+    distance = planner.wavefront(~blocked, (10, 10))
+    assert planner.frontier_goal(distance, seen, blocked, (10, 10), 0.0, 0.1, 0.3, 6) is None
+
+
+# Safety --------------------------------------------------------------------------------------
+
+def test_free_travel_straight_and_on_an_arc():
+    wall = np.array([[1.0, y] for y in np.linspace(-0.5, 0.5, 21)])
+    assert avoidance.free_travel_m(wall, 0.3, 0.0, 0.2, 2.0) == pytest.approx(0.8, abs=0.03)
+    assert avoidance.free_travel_m(np.array([[1.0, 0.5]]), 0.3, 0.0, 0.2, 2.0) == 2.0
+    # turning left onto a point ahead on the left
+    assert avoidance.free_travel_m(np.array([[0.7, 0.4]]), 0.3, 0.5, 0.2, 2.0) < 1.0
+
+
+def test_points_behind_a_robot_that_drives_away_do_not_stop_it():
+    assert avoidance.free_travel_m(np.array([[-0.15, 0.0]]), 0.3, 0.0, 0.2, 1.0) == 1.0
+    assert avoidance.free_travel_m(np.array([[0.15, 0.0]]), 0.3, 0.0, 0.2, 1.0) == 0.0
+
+
+def test_safe_linear_brakes_before_the_obstacle():
+    assert avoidance.safe_linear(0.4, 2.0, 0.5, 0.03) == 0.4
+    assert avoidance.safe_linear(0.4, 0.1, 0.5, 0.03) == pytest.approx(math.sqrt(2 * 0.5 * 0.07))
+    assert avoidance.safe_linear(0.4, 0.02, 0.5, 0.03) == 0.0
+    assert avoidance.safe_linear(-0.1, 0.0, 0.5, 0.03) == -0.1
+
+
+def test_clear_heading_picks_the_gap_nearest_the_target():
+    wall = np.array([[0.5, y] for y in np.linspace(-1.0, 0.2, 25)])
+    heading = avoidance.clear_heading(wall, 0.0, 0.2, 0.5)
+    assert heading > math.radians(20.0)
+    assert avoidance.clear_heading(np.zeros((0, 2)), 0.3, 0.2, 0.5) == pytest.approx(0.3)
+
+
+def test_frames_round_trip():
+    points = np.array([[1.0, 2.0], [-0.5, 0.3]])
+    back = avoidance.from_frame(avoidance.to_frame(points, 0.4, -0.2, 1.1), 0.4, -0.2, 1.1)
+    assert np.allclose(back, points)
+
+
+def test_the_target_can_is_not_an_obstacle():
+    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
+    navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    can = np.array([[0.6, 0.0]])
+    navigator.add_scan(can, np.array([True]), (0.0, 0.0), navigator.pose)
+    assert navigator.free_travel_m((0.3, 0.0)) < 0.5
+    assert navigator.free_travel_m((0.3, 0.0), (0.6, 0.0), 0.15) == 1.0
+
+
+# Controller ----------------------------------------------------------------------------------
+
+OBSTACLES = [(1.2, 1.2, 0.25), (-1.0, 1.0, 0.2), (0.8, -1.4, 0.3), (-1.5, -1.0, 0.25),
+             (1.8, 0.3, 0.15), (-0.2, 1.9, 0.3)]
+
+
+def stopped(controller):
+    return controller.state is State.STOPPED
+
+
+def test_without_a_scan_the_robot_does_not_drive_forward():
+    controller = make_controller()
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe(None, 0.0)
+    controller.state = State.EXPLORE
+    for step in range(20):
+        controller.observe(None, step * 0.05)
+        controller.observe_pose(Pose2D(0.0, 0.0, 0.0), step * 0.05)
+        assert controller.command(step * 0.05)[0] == 0.0
+
+
+def test_search_explores_after_a_full_turn_and_finds_a_hidden_can():
+    world = World(3.0, OBSTACLES, (2.5, 2.5))
+    controller = make_controller()
+    now, poses, states, clearance = run(controller, world, 90.0, stop_when=stopped)
+    assert controller.state is State.STOPPED
+    assert State.EXPLORE in states
+    assert states.index(State.EXPLORE) / 20.0 == pytest.approx(2 * math.pi / 0.8, abs=1.0)
+    assert clearance > 0.0
+    gap = math.hypot(world.pose.x - 2.5, world.pose.y - 2.5) - 0.033 - ROBOT_RADIUS
+    assert gap == pytest.approx(DEFAULTS['stop_distance'], abs=0.02)
+
+
+def test_approach_goes_around_an_obstacle_between_robot_and_can():
+    world = World(3.0, [(1.0, 0.0, 0.3)], (2.2, 0.0))
+    controller = make_controller()
+    now, poses, states, clearance = run(controller, world, 60.0, stop_when=stopped)
+    assert controller.state is State.STOPPED
+    assert clearance > 0.0
+    assert max(abs(pose.y) for pose in poses) > 0.4
+
+
+def test_wander_keeps_moving_without_touching_anything():
+    world = World(2.0, OBSTACLES[:3])
+    controller = make_controller(behaviour='wander')
+    now, poses, states, clearance = run(controller, world, 60.0)
+    assert set(states) == {State.WANDER}
+    assert clearance > 0.0
+    path_m = sum(math.hypot(b.x - a.x, b.y - a.y) for a, b in zip(poses, poses[1:]))
+    assert path_m > 5.0
+
+
+def test_scan_rays_follow_rep_117():
+    ends, hits = scan_rays(-0.5, 0.5, [1.0, math.inf, math.nan, 0.01, 9.0], 0.05, 4.0)
+    assert hits.tolist() == [True, False, False]
+    assert ends[0] == pytest.approx([math.cos(-0.5), math.sin(-0.5)])
+    assert np.hypot(*ends[1]) == pytest.approx(4.0) and np.hypot(*ends[2]) == pytest.approx(4.0)
