@@ -205,3 +205,12 @@ def test_scan_rays_follow_rep_117():
     assert hits.tolist() == [True, False, False]
     assert ends[0] == pytest.approx([math.cos(-0.5), math.sin(-0.5)])
     assert np.hypot(*ends[1]) == pytest.approx(4.0) and np.hypot(*ends[2]) == pytest.approx(4.0)
+
+
+def test_a_scan_does_not_clear_what_is_remembered_in_its_blind_zone():
+    grid = GridMap(0.1, 4.0)
+    grid.add_scan((0.0, 0.0), np.array([[0.3, 0.0]]), np.array([True]))
+    for _ in range(5):
+        grid.add_scan((0.0, 0.0), np.array([[2.0, 0.0]]), np.array([False]), clear_from_m=0.5)
+    assert grid.occupied()[grid.cell_of(0.3, 0.0)]
+    assert not grid.occupied()[grid.cell_of(1.0, 0.0)]

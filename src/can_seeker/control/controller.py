@@ -329,11 +329,12 @@ class Controller:
         self.navigator.pose = pose
         self.pose_s = now_s
 
-    def observe_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base, now_s: float):
+    def observe_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base, now_s: float,
+                     range_min_m: float = 0.0):
         """A range scan in base_link (see :meth:`Navigator.add_scan`), taken at the last pose."""
         if self.navigator.pose is None:
             return
-        self.navigator.add_scan(ends_base, hits, origin_base, self.navigator.pose)
+        self.navigator.add_scan(ends_base, hits, origin_base, self.navigator.pose, range_min_m)
         self.scan_s = now_s
 
     def set_camera_view(self, view: CameraView) -> None:

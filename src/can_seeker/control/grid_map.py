@@ -62,10 +62,12 @@ class GridMap:
         """Cells with more evidence of an obstacle than of free floor."""
         return self.evidence > 0
 
-    def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray) -> None:
-        """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom): the floor along each ray is free,
-        its end is an obstacle where ``hits`` is true (a ray without a return ends at the range
-        it can vouch for)."""
+    def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
+                 clear_from_m: float = 0.0) -> None:
+        """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom): the floor along each ray from
+        ``clear_from_m`` on is free (nearer, the sensor is blind and what is remembered there
+        stays), its end is an obstacle where ``hits`` is true (a ray without a return ends at
+        the range it can vouch for)."""
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
         if len(ends_xy) == 0:
             return
@@ -78,7 +80,8 @@ class GridMap:
         fractions = np.arange(samples) * step_m
         directions = (ends_xy - origin) / np.maximum(lengths, 1e-9)[:, None]
         points = origin[None, :, :] + fractions[None, :, None] * directions[:, None, :]
-        keep = fractions[None, :] <= free_lengths[:, None]
+        keep = ((fractions[None, :] <= free_lengths[:, None])
+                & (fractions[None, :] >= clear_from_m))
         ix, iy, inside = self.index_of(points[keep])
         free = np.zeros_like(self.seen)
         free[ix[inside], iy[inside]] = True

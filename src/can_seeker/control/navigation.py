@@ -91,16 +91,17 @@ class Navigator:
         self.scan_pose = None
 
     def add_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base: Sequence[float],
-                 pose: Pose2D) -> None:
+                 pose: Pose2D, range_min_m: float = 0.0) -> None:
         """One range scan taken at ``pose``: the end of every ray in base_link (N x 2), where
         ``hits`` marks a return (else the ray ends at the range it vouches for), from the
-        sensor at ``origin_base``."""
+        sensor at ``origin_base``, which is blind nearer than ``range_min_m``."""
         ends = np.asarray(ends_base, float).reshape(-1, 2)
         hits = np.asarray(hits, bool).reshape(-1)
         self.scan_points = ends[hits]
         self.scan_pose = pose
         origin = avoidance.from_frame(np.asarray(origin_base, float), pose.x, pose.y, pose.yaw)
-        self.grid.add_scan(origin[0], avoidance.from_frame(ends, pose.x, pose.y, pose.yaw), hits)
+        self.grid.add_scan(origin[0], avoidance.from_frame(ends, pose.x, pose.y, pose.yaw), hits,
+                           range_min_m)
 
     def mark_seen(self, view: CameraView) -> None:
         """The camera covered its footprint from the current pose."""

@@ -132,7 +132,7 @@ class CanStopperNode:
             + np.asarray(sensor.position)
         with self.lock:
             self.controller.observe_scan(ends_3d[:, :2], hits, sensor.position[:2],
-                                         rospy.get_time())
+                                         rospy.get_time(), scan.range_min)
 
     def camera_pose(self, frame_id):
         """The camera's floor pose in base_link, from TF once per frame, else from params."""
