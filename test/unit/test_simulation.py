@@ -3,11 +3,14 @@ import math
 import pathlib
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from can_seeker.params import read_params
+from can_seeker.sim.scene import CAN_HEIGHT_M, CAN_RADIUS_M, Solid
 from can_seeker.sim.simulation import (MIN_CAN_CLEARANCE_M, PARAMS, RateSchedule, Simulation,
-                                   camera_spec, checked_config, parse_rgba, random_can_position)
+                                       camera_spec, checked_config, parse_rgba,
+                                       random_can_position)
 from can_seeker.sim.world import World
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
@@ -107,6 +110,13 @@ def simulation():
         yield Simulation.from_config(world, config)
 
 
+@pytest.fixture(scope='module')
+def room_sim():
+    config, _ = config_with(width=64, height=48, renderer='tiny', world='room', seed=3)
+    with World(URDF, camera_spec(config), renderer='tiny', scene=config.scene) as world:
+        yield Simulation.from_config(world, config)
+
+
 @pytest.fixture
 def sim(simulation):
     simulation.reset()
@@ -155,9 +165,10 @@ def test_contact_is_reported_with_the_state(sim):
         sim.command(0.2, 0.0)
         result = sim.step()
         if result.state_due:
-            touches.append(result.touched_can)
+            assert result.touched <= {'can'}
+            touches.append('can' in result.touched)
         else:
-            assert not result.touched_can
+            assert not result.touched
     first_touch = touches.index(True)
     assert first_touch > 5
     assert not any(touches[:first_touch])
@@ -171,6 +182,73 @@ def test_place_can_refuses_overlap_and_bad_numbers(sim):
     assert not success and 'overlap' in message
     assert not sim.place_can(math.nan, 0.0)[0]
     assert sim.world.can_home == (1.0, 0.5)
+
+
+def test_place_can_refuses_points_off_the_floor(sim):
+    for x_m, y_m in ((150.0, 0.0), (0.0, -100.01), (1e6, 1e6)):
+        success, message = sim.place_can(x_m, y_m)
+        assert not success and 'off the floor' in message
+    assert sim.world.can_home == (5.0, 5.0)
+    for _ in range(240):
+        sim.step()
+    assert sim.world.can_pose()[0][2] == pytest.approx(CAN_HEIGHT_M / 2.0, abs=1e-3)
+
+
+def test_a_room_refuses_cans_outside_its_walls_and_inside_obstacles(room_sim):
+    scene = room_sim.world.scene
+    obstacle = scene.obstacles[0]
+    for x_m, y_m in ((3.2, 0.0), (0.0, -3.0), (obstacle.x_m, obstacle.y_m)):
+        success, message = room_sim.place_can(x_m, y_m)
+        assert not success, message
+    assert room_sim.place_can(obstacle.x_m, obstacle.y_m)[1].endswith(obstacle.name)
+    assert room_sim.place_can(2.8, 2.8)[0]
+
+
+def test_driving_into_a_wall_reports_the_wall(room_sim):
+    room_sim.set_scene(room_sim.world.scene)
+    touched = set()
+    for _ in range(30 * 240):
+        room_sim.command(0.0, 0.0) if touched else room_sim.command(0.4, 0.0)
+        result = room_sim.step()
+        touched |= result.touched
+        if touched and result.state_due:
+            break
+    assert touched == {'wall_front'}
+    assert room_sim.world.robot_state().position[0] == pytest.approx(3.0 - 0.165, abs=0.02)
+
+
+def expected_ranges(lidar, solids, surface_m=0.0):
+    """Range of each beam of a lidar at the origin to the nearest solid grown by surface_m."""
+    expected = np.full(lidar.beams, np.inf)
+    distances = np.arange(lidar.range_min_m, lidar.range_max_m, 0.001)
+    for solid in solids:
+        for index, angle in enumerate(lidar.angles_rad()):
+            inside = solid.distance_m(distances * math.cos(angle),
+                                      distances * math.sin(angle)) <= surface_m
+            if inside.any():
+                expected[index] = min(expected[index], distances[np.argmax(inside)])
+    return expected
+
+
+def test_the_scan_sees_walls_obstacles_and_can_where_they_are(room_sim):
+    room_sim.set_scene(room_sim.world.scene)
+    scans = [result.scan for result in (room_sim.step() for _ in range(240))
+             if result.scan is not None]
+    assert len(scans) == 10
+    ranges = scans[-1]
+    scene = room_sim.world.scene
+    can = Solid('can', 'cylinder', *scene.can_xy, 2 * CAN_RADIUS_M, 2 * CAN_RADIUS_M,
+                CAN_HEIGHT_M)
+    solids = scene.solids + (can,)
+    near, far = (expected_ranges(room_sim.lidar, solids, surface_m)
+                 for surface_m in (0.003, -0.003))
+    grazing = far - near > 0.01
+    assert np.all(np.isfinite(ranges))
+    assert grazing.sum() < 20
+    assert np.abs(ranges - expected_ranges(room_sim.lidar, solids))[~grazing].max() < 0.003
+    assert np.all((ranges[grazing] > near[grazing] - 0.003)
+                  & (ranges[grazing] < far[grazing] + 0.003))
+    assert ranges[room_sim.lidar.beams // 2] == pytest.approx(3.0, abs=0.002)
 
 
 def test_reset_restores_robot_and_can(sim):
@@ -211,6 +289,6 @@ def test_reset_forgets_a_touch_before_it(sim):
         sim.command(0.3, 0.0)
         sim.step()
     sim.reset_trial((1.0, 0.0))
-    touches = [result.touched_can for result in (sim.step() for _ in range(24))
+    touches = [bool(result.touched) for result in (sim.step() for _ in range(24))
                if result.state_due]
     assert touches and not any(touches)

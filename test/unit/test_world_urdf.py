@@ -9,7 +9,7 @@ import pytest
 from can_seeker.camera_geometry import quaternion_matrix
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
 from can_seeker.sim.simulation import PARAMS
-from can_seeker.sim.world import BODY_RADIUS_M, WHEEL_RADIUS_M, WHEEL_SEPARATION_M
+from can_seeker.sim.scene import ROBOT_RADIUS_M as BODY_RADIUS_M, WHEEL_RADIUS_M, WHEEL_SEPARATION_M
 
 URDF = pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf'
 DEFAULTS = {spec.name: spec.default for spec in PARAMS}

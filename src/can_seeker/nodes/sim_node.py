@@ -1,13 +1,15 @@
-"""ROS node ``sim``: the pybullet world as a camera robot on a floor with a soda can.
+"""ROS node ``sim``: the pybullet world as a camera robot with a lidar on a floor (in an empty
+world, a room with obstacles or a world file) with a soda can.
 
 Publishes /clock (every physics step), /camera/image_raw + /camera/camera_info (same stamp: the
-sim time the frame was rendered), /odom and TF odom->base_link (perfect odometry: the true pose
-and twist from pybullet), static TF base_link->camera_link->camera_optical_frame from the actual
-camera parameters, and ground truth /sim/can_pose and /sim/contact (whether the robot touched
-the can at any physics step since the previous message). Subscribes /cmd_vel, or in lockstep
-cmd_vel_stamped. Services /sim/reset, /sim/reset_trial, /sim/place_can, /sim/pause_physics and
-/sim/unpause_physics run on the simulation thread between physics steps (in lockstep, after the
-current frame was answered).
+sim time the frame was rendered), /scan (the lidar), /odom and TF odom->base_link (perfect
+odometry: the true pose and twist from pybullet), static TF base_link->camera_link->
+camera_optical_frame from the actual camera parameters and base_link->base_scan, and ground truth
+/sim/can_pose, /sim/contact and /sim/contacts (whether and what the robot touched at any physics
+step since the previous message) and /sim/world (latched: the scene in the world-file format).
+Subscribes /cmd_vel, or in lockstep cmd_vel_stamped. Services /sim/reset, /sim/reset_trial,
+/sim/place_can, /sim/new_world, /sim/pause_physics and /sim/unpause_physics run on the simulation
+thread between physics steps (in lockstep, after the current frame was answered).
 """
 import math
 import os
@@ -15,20 +17,25 @@ import time
 
 import rospy
 import tf2_ros
+import yaml
 from geometry_msgs.msg import PoseStamped, TransformStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
-from sensor_msgs.msg import CameraInfo, Image
-from std_msgs.msg import Bool
+from sensor_msgs.msg import CameraInfo, Image, LaserScan
+from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty, EmptyResponse
 
+from can_seeker.msg import Contacts
+from can_seeker.sim import lidar
 from can_seeker.sim.call_queue import CallQueue
 from can_seeker.sim.lockstep import LockstepGate, header_stamp_s, parse_topics
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.params import read_params
-from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_config
-from can_seeker.srv import PlaceCan, PlaceCanResponse, ResetTrial, ResetTrialResponse
-from can_seeker.sim.world import World, package_urdf_path
+from can_seeker.sim.simulation import (PARAMS, Simulation, camera_spec, can_visible_from_start,
+                                       checked_config, scene_for)
+from can_seeker.srv import (NewWorld, NewWorldResponse, PlaceCan, PlaceCanResponse, ResetTrial,
+                            ResetTrialResponse)
+from can_seeker.sim.world import World, package_urdf_path, package_worlds_dir
 
 ODOM_FRAME = 'odom'
 BASE_FRAME = 'base_link'
@@ -75,17 +82,18 @@ class SimNode:
 
     def __init__(self):
         config = checked_config(read_params(PARAMS, rospy.get_param, rospy.logwarn),
-                                rospy.logwarn)
+                                rospy.logwarn, [package_worlds_dir()])
         if config.gui and not os.environ.get('DISPLAY'):
             rospy.logwarn('~gui is true but no display is set (DISPLAY); running headless')
             config.gui = False
         spec = camera_spec(config)
         world = World(package_urdf_path(), spec, config.physics_rate, config.renderer, config.gui,
-                      config.can_color)
-        world.place_can(*config.can_position)
-        rospy.loginfo('sim: rendering %dx%d at %.1f Hz with %s; can at (%.3f, %.3f)',
-                      config.width, config.height, config.camera_rate, world.renderer_name,
-                      *config.can_position)
+                      config.can_color, config.scene)
+        rospy.loginfo('sim: %s world with %d walls and %d obstacles; rendering %dx%d at %.1f Hz '
+                      'with %s; can at (%.3f, %.3f)', config.world, len(config.scene.walls),
+                      len(config.scene.obstacles), config.width, config.height,
+                      config.camera_rate, world.renderer_name, *config.can_position)
+        self._config = config
         self._sim = Simulation.from_config(world, config)
         self._real_time_factor = config.real_time_factor
         self._calls = CallQueue()
@@ -100,6 +108,10 @@ class SimNode:
         self._odom_pub = rospy.Publisher('odom', Odometry, queue_size=10)
         self._can_pose_pub = rospy.Publisher('~can_pose', PoseStamped, queue_size=10)
         self._contact_pub = rospy.Publisher('~contact', Bool, queue_size=10)
+        self._contacts_pub = rospy.Publisher('~contacts', Contacts, queue_size=10)
+        self._world_pub = rospy.Publisher('~world', String, queue_size=1, latch=True)
+        self._scan_pub = rospy.Publisher('scan', LaserScan, queue_size=5)
+        self._scan = self._scan_template(self._sim.lidar, config.scan_rate)
         self._tf_broadcaster = tf2_ros.TransformBroadcaster()
         self._static_broadcaster = tf2_ros.StaticTransformBroadcaster()
         self._publish_clock()
@@ -109,7 +121,10 @@ class SimNode:
                        spec.mount.rotation_xyzw),
             _transform(stamp, CAMERA_FRAME, OPTICAL_FRAME, (0.0, 0.0, 0.0),
                        OPTICAL_IN_CAMERA_LINK_XYZW),
+            _transform(stamp, BASE_FRAME, lidar.FRAME, (0.0, 0.0, config.scan_height),
+                       (0.0, 0.0, 0.0, 1.0)),
         ])
+        self._publish_world()
         self._lockstep_inputs = []
         if self._gate is None:
             rospy.Subscriber('cmd_vel', Twist, self._on_cmd_vel, queue_size=10)
@@ -120,6 +135,25 @@ class SimNode:
         rospy.Service('~place_can', PlaceCan, self._on_place_can)
         rospy.Service('~pause_physics', Empty, lambda _: self._set_paused(True))
         rospy.Service('~unpause_physics', Empty, lambda _: self._set_paused(False))
+        rospy.Service('~new_world', NewWorld, self._on_new_world)
+
+    @staticmethod
+    def _scan_template(spec, rate_hz):
+        if spec is None:
+            return None
+        scan = LaserScan()
+        scan.header.frame_id = lidar.FRAME
+        scan.angle_min = spec.angle_min_rad
+        scan.angle_max = spec.angle_max_rad
+        scan.angle_increment = spec.angle_increment_rad
+        scan.scan_time = 1.0 / rate_hz
+        scan.range_min = spec.range_min_m
+        scan.range_max = spec.range_max_m
+        return scan
+
+    def _publish_world(self):
+        self._world_pub.publish(String(data=yaml.safe_dump(self._sim.world.scene.as_dict(),
+                                                           sort_keys=False)))
 
     def _subscribe_lockstep(self, topics):
         """Await the stamped command and ``topics`` (any type that starts with a Header)."""
@@ -200,6 +234,23 @@ class SimNode:
             rospy.logerr_throttle(ERROR_THROTTLE_S, 'sim: place_can: %s' % message)
         return PlaceCanResponse(success, message)
 
+    def _on_new_world(self, request):
+        scene = scene_for(self._config, request.seed, rospy.logwarn)
+
+        def rebuild():
+            self._sim.set_scene(scene)
+            self._reset_s = self._sim.time_s
+            self._publish_world()
+        try:
+            self._calls.call(rebuild, SERVICE_TIMEOUT_S)
+        except TimeoutError as error:
+            rospy.logerr('sim: new_world failed: %s', error)
+            return NewWorldResponse(False, str(error), math.nan, math.nan, False)
+        return NewWorldResponse(True, 'world from seed %d: %d obstacles, can at (%.3f, %.3f)'
+                                % (request.seed, len(scene.obstacles), *scene.can_xy),
+                                scene.can_xy[0], scene.can_xy[1],
+                                can_visible_from_start(scene, self._sim.world.camera))
+
     def _publish_clock(self):
         self._clock_pub.publish(Clock(clock=rospy.Time.from_sec(self._sim.time_s)))
 
@@ -215,7 +266,12 @@ class SimNode:
         self._image_pub.publish(message)
         self._info_pub.publish(self._camera_info)
 
-    def _publish_state(self, stamp, touched_can):
+    def _publish_scan(self, ranges, stamp):
+        self._scan.header.stamp = stamp
+        self._scan.ranges = ranges.tolist()
+        self._scan_pub.publish(self._scan)
+
+    def _publish_state(self, stamp, touched):
         world = self._sim.world
         robot = world.robot_state()
         odom = Odometry()
@@ -240,7 +296,10 @@ class SimNode:
         (can.pose.orientation.x, can.pose.orientation.y, can.pose.orientation.z,
          can.pose.orientation.w) = can_orientation
         self._can_pose_pub.publish(can)
-        self._contact_pub.publish(Bool(data=touched_can))
+        self._contact_pub.publish(Bool(data=bool(touched)))
+        contacts = Contacts(objects=sorted(touched))
+        contacts.header.stamp = stamp
+        self._contacts_pub.publish(contacts)
 
     def _wait_for_answers(self) -> bool:
         """In lockstep, whether the held frame still waits for its answers (a timeout is
@@ -270,12 +329,14 @@ class SimNode:
             result = self._sim.step()
             self._publish_clock()
             stamp = rospy.Time.from_sec(result.time_s)
+            if result.scan is not None:
+                self._publish_scan(result.scan, stamp)
             if result.image is not None:
                 self._publish_image(result.image, stamp)
                 if self._gate is not None:
                     self._gate.hold(result.time_s, self._awaited_inputs())
             if result.state_due:
-                self._publish_state(stamp, result.touched_can)
+                self._publish_state(stamp, result.touched)
             if self._real_time_factor > 0.0:
                 lag_s = (time.monotonic() - wall_start_s
                          - (result.time_s - sim_start_s) / self._real_time_factor)

@@ -1,24 +1,39 @@
-"""The simulator's parameters and its sim-time loop: commands in, physics steps, frames out.
+"""The simulator's parameters, the scene they describe, and its sim-time loop: commands in,
+physics steps, frames, scans and contacts out.
 
 Time is counted in physics steps (exact sim time, no float drift). Each step applies the
 acceleration-limited twist of the freshest command (zero once it is older than the timeout),
-steps pybullet once, and says whether a camera frame and a state message are due.
+steps pybullet once, and says whether a camera frame, a scan and a state message are due.
 """
 import math
+import os
 import random
 from dataclasses import dataclass
 from types import SimpleNamespace
-from typing import Callable, Optional, Tuple
+from typing import Callable, FrozenSet, Optional, Sequence, Tuple
 
 import numpy as np
+import yaml
 
+from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.drive import CommandWatchdog, TwistLimiter
 from can_seeker.params import Param
-from can_seeker.sim.world import (BODY_RADIUS_M, CAN_RADIUS_M, CAN_RGBA, RENDERERS, CameraSpec,
-                              World)
+from can_seeker.sim.lidar import LidarSpec
+from can_seeker.sim.scene import (CAN_CLEARANCE_M, CAN_RADIUS_M, OBSTACLE_RGBA, ROBOT_RADIUS_M,
+                                  WALL_RGBA, Scene, can_visible, empty_bounds,
+                                  random_can_position, random_free_can_position,
+                                  random_obstacles, room_walls, scene_from_dict)
+from can_seeker.sim.world import CAN_RGBA, RENDERERS, CameraSpec, World
 
-DEFAULT_CAN_RGBA = ' '.join('%g' % channel for channel in CAN_RGBA)
+
+def _rgba_text(rgba: Sequence[float]) -> str:
+    return ' '.join('%g' % channel for channel in rgba)
+
+
+DEFAULT_CAN_RGBA = _rgba_text(CAN_RGBA)
+WORLDS = ('empty', 'room')
+"""Built-in worlds; any other ~world value is a world file."""
 
 PARAMS = (
     Param('gui', False, 'open the pybullet GUI; only when a display exists (DISPLAY set), '
@@ -44,12 +59,37 @@ PARAMS = (
     Param('max_linear_accel', 1.0, 'linear acceleration limit of the base (m/s^2)', 0.01, 20.0),
     Param('max_angular_accel', 4.0, 'angular acceleration limit of the base (rad/s^2)',
           0.01, 100.0),
-    Param('can_placement', 'random', 'random: can centre at a random bearing and a distance '
-          'drawn from ~seed in [~can_min_distance, ~can_max_distance] from the robot start; '
+    Param('can_placement', 'random', 'random: in the empty world the can centre is at a '
+          'random bearing and distance in [~can_min_distance, ~can_max_distance] from the robot '
+          'start, elsewhere anywhere in free space (0.4 m clear of walls and obstacles, at '
+          'least ~can_min_distance away) unless the world file places it; drawn from ~seed. '
           'fixed: at (~can_x, ~can_y)', choices=('random', 'fixed')),
     Param('can_x', 1.0, 'can centre x in odom when ~can_placement is fixed (m)', -100.0, 100.0),
     Param('can_y', 0.0, 'can centre y in odom when ~can_placement is fixed (m)', -100.0, 100.0),
-    Param('seed', 0, 'random seed of the can placement', 0, 2 ** 31 - 1),
+    Param('world', 'empty', 'empty (a floor), room (walls around ~room_length x ~room_width '
+          'with ~obstacles random obstacles) or a YAML world file: a path, or a file name in '
+          'the package\'s worlds/ folder'),
+    Param('room_length', 6.0, 'inside length of the room along x, centred on the robot start '
+          '(m)', 2.0, 100.0),
+    Param('room_width', 6.0, 'inside width of the room along y, centred on the robot start (m)',
+          2.0, 100.0),
+    Param('obstacles', 6, 'number of random boxes and cylinders (sides 0.1-0.5 m, 0.15-0.5 m '
+          'tall) in the room, drawn from ~seed', 0, 100),
+    Param('floor_rgba', '', 'floor colour: red green blue alpha in 0-1; empty: pybullet\'s '
+          'blue and white checker floor'),
+    Param('wall_rgba', _rgba_text(WALL_RGBA), 'wall colour: red green blue alpha in 0-1'),
+    Param('obstacle_rgba', _rgba_text(OBSTACLE_RGBA), 'obstacle colour: red green blue alpha '
+          'in 0-1 (a world file may colour each obstacle)'),
+    Param('scan_rate', 10.0, 'rate of the simulated lidar /scan (Hz, sim time); 0 turns it '
+          'off', 0.0, 240.0),
+    Param('scan_beams', 360, 'beams of the lidar over 360 deg', 8, 4096),
+    Param('scan_range_min', 0.12, 'nearest range the lidar reports (m)', 0.0, 1.0),
+    Param('scan_range_max', 8.0, 'farthest range the lidar reports; beyond it a beam reads '
+          'inf (m)', 0.5, 100.0),
+    Param('scan_height', 0.1, 'height of the lidar beams (frame base_scan) above base_link '
+          '(m)', 0.09, 2.0),
+    Param('seed', 0, 'random seed of the can placement and the room\'s obstacles',
+          0, 2 ** 31 - 1),
     Param('can_min_distance', 0.5, 'nearest random can centre from the robot start (m)',
           0.3, 50.0),
     Param('can_max_distance', 3.0, 'farthest random can centre from the robot start (m)',
@@ -66,7 +106,7 @@ PARAMS = (
           'lockstep before the simulation steps on (counted, with a warning)', 0.01, 600.0),
 )
 
-MIN_CAN_CLEARANCE_M = BODY_RADIUS_M + CAN_RADIUS_M
+MIN_CAN_CLEARANCE_M = ROBOT_RADIUS_M + CAN_RADIUS_M
 """A can centre closer than this to base_link (m) would overlap the robot."""
 
 
@@ -81,28 +121,59 @@ def parse_rgba(text: str) -> Tuple[float, float, float, float]:
     return values
 
 
-def random_can_position(seed: int, min_distance_m: float,
-                        max_distance_m: float) -> Tuple[float, float]:
-    """Can centre (x, y) (m) at a uniformly random bearing and distance from the origin."""
-    generator = random.Random(seed)
-    distance_m = generator.uniform(min_distance_m, max_distance_m)
-    bearing_rad = generator.uniform(-math.pi, math.pi)
-    return distance_m * math.cos(bearing_rad), distance_m * math.sin(bearing_rad)
+def _checked_colour(config: SimpleNamespace, name: str, warn: Callable[[str], None],
+                    allow_empty: bool = False) -> Optional[Tuple[float, float, float, float]]:
+    """The parsed colour parameter ``name`` (None when empty is allowed and given); a bad value
+    is warned and replaced by the default."""
+    text = getattr(config, name)
+    if allow_empty and not text.strip():
+        return None
+    try:
+        return parse_rgba(text)
+    except ValueError as error:
+        default = {spec.name: spec.default for spec in PARAMS}[name]
+        warn('parameter ~%s: %s; using the default %r' % (name, error, default))
+        setattr(config, name, default)
+        return _checked_colour(config, name, warn, allow_empty)
 
 
-def checked_config(params: SimpleNamespace, warn: Callable[[str], None]) -> SimpleNamespace:
+def world_file_path(world: str, search_dirs: Sequence[str]) -> str:
+    """The world file ``world`` names: an existing path, or a file in one of ``search_dirs``
+    (the .yaml suffix may be left out); ValueError if there is none."""
+    candidates = [world] + [os.path.join(folder, name) for folder in search_dirs
+                            for name in (world, world + '.yaml')]
+    for candidate in candidates:
+        if os.path.isfile(candidate):
+            return candidate
+    raise ValueError('no world file %r (looked in %s)'
+                     % (world, ', '.join(search_dirs) or 'the current directory'))
+
+
+def load_world_file(path: str) -> dict:
+    """The mapping in a YAML world file (checked by :func:`scene_for`); ValueError if unreadable."""
+    try:
+        with open(path) as stream:
+            data = yaml.safe_load(stream)
+    except (OSError, yaml.YAMLError) as error:
+        raise ValueError('cannot read world file %s: %s' % (path, error))
+    scene_from_dict(data)
+    return data
+
+
+def checked_config(params: SimpleNamespace, warn: Callable[[str], None],
+                   world_dirs: Sequence[str] = ()) -> SimpleNamespace:
     """``params`` with the checks that span parameters applied: bad values warned and replaced.
 
-    Adds ``can_color`` (the parsed ~can_rgba) and ``can_position`` (where the can starts).
+    Adds ``can_color``, ``floor_color``, ``wall_color``, ``obstacle_color`` (parsed colours),
+    ``world_data`` (the world file's mapping, or None), ``scene`` (the world at ~seed) and
+    ``can_position`` (where the can starts). World files are looked up in ``world_dirs``.
     """
     config = SimpleNamespace(**vars(params))
-    try:
-        config.can_color = parse_rgba(config.can_rgba)
-    except ValueError as error:
-        warn('parameter ~can_rgba: %s; using the default %r' % (error, DEFAULT_CAN_RGBA))
-        config.can_rgba = DEFAULT_CAN_RGBA
-        config.can_color = parse_rgba(DEFAULT_CAN_RGBA)
-    for name in ('camera_rate', 'state_rate'):
+    config.can_color = _checked_colour(config, 'can_rgba', warn)
+    config.floor_color = _checked_colour(config, 'floor_rgba', warn, allow_empty=True)
+    config.wall_color = _checked_colour(config, 'wall_rgba', warn)
+    config.obstacle_color = _checked_colour(config, 'obstacle_rgba', warn)
+    for name in ('camera_rate', 'state_rate', 'scan_rate'):
         if getattr(config, name) > config.physics_rate:
             warn('~%s %r is above ~physics_rate %r; using %r'
                  % (name, getattr(config, name), config.physics_rate, config.physics_rate))
@@ -111,18 +182,77 @@ def checked_config(params: SimpleNamespace, warn: Callable[[str], None]) -> Simp
         warn('~can_max_distance %r is below ~can_min_distance %r; using %r for both'
              % (config.can_max_distance, config.can_min_distance, config.can_min_distance))
         config.can_max_distance = config.can_min_distance
-    if config.can_placement == 'fixed':
-        config.can_position = (config.can_x, config.can_y)
-        if math.hypot(*config.can_position) < MIN_CAN_CLEARANCE_M:
-            defaults = {spec.name: spec.default for spec in PARAMS}
-            fallback = (defaults['can_x'], defaults['can_y'])
-            warn('(~can_x, ~can_y) = %r overlaps the robot; placing the can at %r'
-                 % (config.can_position, fallback))
-            config.can_position = fallback
-    else:
-        config.can_position = random_can_position(config.seed, config.can_min_distance,
-                                                  config.can_max_distance)
+    if config.scan_range_max <= config.scan_range_min:
+        warn('~scan_range_max %r is not above ~scan_range_min %r; using %r'
+             % (config.scan_range_max, config.scan_range_min, config.scan_range_min + 1.0))
+        config.scan_range_max = config.scan_range_min + 1.0
+    if config.can_placement == 'fixed' and (math.hypot(config.can_x, config.can_y)
+                                            < MIN_CAN_CLEARANCE_M):
+        defaults = {spec.name: spec.default for spec in PARAMS}
+        warn('(~can_x, ~can_y) = %r overlaps the robot; placing the can at %r'
+             % ((config.can_x, config.can_y), (defaults['can_x'], defaults['can_y'])))
+        config.can_x, config.can_y = defaults['can_x'], defaults['can_y']
+    config.world_data = None
+    if config.world not in WORLDS:
+        try:
+            config.world_data = load_world_file(world_file_path(config.world, world_dirs))
+        except ValueError as error:
+            warn('parameter ~world: %s; using the empty world' % error)
+            config.world = 'empty'
+    config.scene = scene_for(config, config.seed, warn)
+    config.can_position = config.scene.can_xy
     return config
+
+
+def scene_for(config: SimpleNamespace, seed: int, warn: Callable[[str], None]) -> Scene:
+    """The world a :func:`checked_config` describes, with its random parts drawn from ``seed``:
+    the room's obstacles first (clear of the start and of a fixed can), then the can."""
+    colours = {'floor_rgba': config.floor_color, 'wall_rgba': config.wall_color,
+               'obstacle_rgba': config.obstacle_color}
+    generator = random.Random(seed)
+    fixed_can = (config.can_x, config.can_y) if config.can_placement == 'fixed' else None
+    if config.world == 'room':
+        bounds = (-config.room_length / 2.0, config.room_length / 2.0,
+                  -config.room_width / 2.0, config.room_width / 2.0)
+        keep_clear = [] if fixed_can is None else [(fixed_can, CAN_RADIUS_M + CAN_CLEARANCE_M)]
+        obstacles = random_obstacles(generator, config.obstacles, bounds, keep_clear)
+        if len(obstacles) < config.obstacles:
+            warn('only %d of %d obstacles fit into the room' % (len(obstacles), config.obstacles))
+        scene = Scene(bounds, room_walls(config.room_length, config.room_width), obstacles,
+                      **colours)
+    elif config.world_data is not None:
+        scene = scene_from_dict(config.world_data, **colours)
+    else:
+        scene = Scene(empty_bounds(), **colours)
+    if fixed_can is not None:
+        problem = scene.can_place_problem(*fixed_can)
+        if problem is None:
+            return scene.with_can(fixed_can)
+        warn('(~can_x, ~can_y): %s; placing the can at random' % problem)
+    if scene.can_xy is not None:
+        return scene
+    if not scene.solids:
+        return scene.with_can(random_can_position(seed, config.can_min_distance,
+                                                  config.can_max_distance))
+    try:
+        return scene.with_can(random_free_can_position(generator, scene,
+                                                       config.can_min_distance))
+    except ValueError as error:
+        warn('%s; removing the obstacles' % error)
+    scene = Scene(scene.bounds, scene.walls, (), **colours)
+    try:
+        return scene.with_can(random_free_can_position(generator, scene,
+                                                       config.can_min_distance))
+    except ValueError as error:
+        warn('%s even without obstacles; using the empty world' % error)
+    return Scene(empty_bounds(), **colours).with_can(random_can_position(
+        seed, config.can_min_distance, config.can_max_distance))
+
+
+def can_visible_from_start(scene: Scene, camera: CameraSpec) -> bool:
+    """Whether the can of ``scene`` is in view, unoccluded, of ``camera`` on a robot at the
+    start pose."""
+    return can_visible(scene, camera_pose_from_mount(camera.mount), camera.intrinsics)
 
 
 def camera_spec(config: SimpleNamespace) -> CameraSpec:
@@ -149,14 +279,22 @@ class RateSchedule:
 
 @dataclass(frozen=True)
 class StepResult:
-    """What one step produced: the new sim time (s), a camera frame if one was due, whether the
-    robot/can state is due for publishing and, if so, whether the robot touched the can at any
-    step since the previous state (a brief touch between two states is not lost)."""
+    """What one step produced: the new sim time (s), a camera frame and a lidar scan (ranges, m)
+    if one was due, whether the robot/can state is due for publishing and, if so, the names of
+    everything but the floor the robot touched at any step since the previous state (a brief
+    touch between two states is not lost)."""
 
     time_s: float
     image: Optional[np.ndarray]
     state_due: bool
-    touched_can: bool
+    touched: FrozenSet[str]
+    scan: Optional[np.ndarray] = None
+
+
+def lidar_spec(config: SimpleNamespace) -> LidarSpec:
+    """The lidar described by the parameters."""
+    return LidarSpec(config.scan_beams, config.scan_range_min, config.scan_range_max,
+                     config.scan_height)
 
 
 class Simulation:
@@ -164,23 +302,27 @@ class Simulation:
 
     def __init__(self, world: World, physics_rate_hz: float, camera_rate_hz: float,
                  state_rate_hz: float, cmd_timeout_s: float, max_linear_accel_mps2: float,
-                 max_angular_accel_radps2: float, encoding: str = 'bgr8'):
+                 max_angular_accel_radps2: float, encoding: str = 'bgr8',
+                 lidar: Optional[LidarSpec] = None, scan_rate_hz: float = 0.0):
         self.world = world
         self.physics_rate_hz = physics_rate_hz
         self.encoding = encoding
+        self.lidar = lidar if scan_rate_hz > 0.0 else None
         self.steps = 0
         self._camera_schedule = RateSchedule(camera_rate_hz, physics_rate_hz)
         self._state_schedule = RateSchedule(state_rate_hz, physics_rate_hz)
+        self._scan_schedule = (RateSchedule(scan_rate_hz, physics_rate_hz) if self.lidar
+                               else None)
         self._watchdog = CommandWatchdog(cmd_timeout_s)
         self._limiter = TwistLimiter(max_linear_accel_mps2, max_angular_accel_radps2)
-        self._touched_can = False
+        self._touched = frozenset()
 
     @classmethod
     def from_config(cls, world: World, config: SimpleNamespace) -> 'Simulation':
         """A Simulation of ``world`` with the rates and limits of a :func:`checked_config`."""
         return cls(world, config.physics_rate, config.camera_rate, config.state_rate,
                    config.cmd_timeout, config.max_linear_accel, config.max_angular_accel,
-                   config.encoding)
+                   config.encoding, lidar_spec(config), config.scan_rate)
 
     @property
     def time_s(self) -> float:
@@ -201,7 +343,7 @@ class Simulation:
         self._watchdog.reset()
         self._limiter.reset()
         self.world.reset_robot()
-        self._touched_can = False
+        self._touched = frozenset()
 
     def reset(self):
         """Robot back to the start pose at rest, can upright at its last placement."""
@@ -217,10 +359,17 @@ class Simulation:
             return True, 'robot at the start, can at (%.3f, %.3f)' % self.world.can_home
         return self.place_can(*can_xy)
 
+    def set_scene(self, scene: Scene):
+        """A new world (walls, obstacles, can); the robot back to the start pose at rest."""
+        self.reset_robot()
+        self.world.set_scene(scene)
+
     def place_can(self, x_m: float, y_m: float) -> Tuple[bool, str]:
-        """Stand the can at (x, y) in odom (m) unless that overlaps the robot; (success, why)."""
-        if not (math.isfinite(x_m) and math.isfinite(y_m)):
-            return False, 'can position (%r, %r) is not finite' % (x_m, y_m)
+        """Stand the can at (x, y) in odom (m) unless that is off the floor or overlaps a wall,
+        an obstacle or the robot; (success, why)."""
+        problem = self.world.scene.can_place_problem(x_m, y_m)
+        if problem is not None:
+            return False, problem
         robot_x_m, robot_y_m, _ = self.world.robot_state().position
         gap_m = math.hypot(x_m - robot_x_m, y_m - robot_y_m) - MIN_CAN_CLEARANCE_M
         if gap_m < 0.0:
@@ -230,16 +379,18 @@ class Simulation:
         return True, 'can placed at (%.3f, %.3f)' % (x_m, y_m)
 
     def step(self) -> StepResult:
-        """Advance one physics step; render when a camera frame is due."""
+        """Advance one physics step; render and scan when due."""
         linear_mps, angular_radps = self._limiter.step(*self._watchdog.target(self.time_s),
                                                        1.0 / self.physics_rate_hz)
         self.world.set_twist(linear_mps, angular_radps)
         self.world.step()
         self.steps += 1
-        self._touched_can = self._touched_can or self.world.robot_touches_can()
+        self._touched = self._touched | self.world.touched_objects()
         image = (self.world.render(self.encoding) if self._camera_schedule.due(self.steps)
                  else None)
+        scan = (self.world.scan(self.lidar) if self._scan_schedule is not None
+                and self._scan_schedule.due(self.steps) else None)
         if not self._state_schedule.due(self.steps):
-            return StepResult(self.time_s, image, False, False)
-        touched_can, self._touched_can = self._touched_can, False
-        return StepResult(self.time_s, image, True, touched_can)
+            return StepResult(self.time_s, image, False, frozenset(), scan)
+        touched, self._touched = self._touched, frozenset()
+        return StepResult(self.time_s, image, True, touched, scan)

@@ -1,7 +1,8 @@
-"""The pybullet world: floor, differential-drive robot, soda can, physics stepping and the camera.
+"""The pybullet world: floor, walls, obstacles, differential-drive robot, soda can, physics
+stepping, the camera and the lidar.
 
 Real rigid-body physics: the robot is driven through its wheel motors and pushes the can by
-contact. The camera renders with EGL (CPU llvmpipe works headless) or, when the EGL plugin is
+contact; walls and obstacles are static. What stands where comes from a :class:`Scene`. The camera renders with EGL (CPU llvmpipe works headless) or, when the EGL plugin is
 missing or renders nothing, with pybullet's TinyRenderer. The world frame is the odom frame and
 the robot starts at its origin facing +x. Use one World from one thread: pybullet is not
 thread-safe.
@@ -9,7 +10,7 @@ thread-safe.
 import importlib.util
 import os
 from dataclasses import dataclass
-from typing import Sequence, Tuple
+from typing import FrozenSet, Optional, Sequence, Tuple
 
 import numpy as np
 import pybullet
@@ -21,16 +22,14 @@ from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_
     yaw_from_quaternion
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.drive import wheel_speeds
+from can_seeker.sim.lidar import LidarSpec
+from can_seeker.sim.scene import (CAN_HEIGHT_M, CAN_MASS_KG, CAN_RADIUS_M, EMPTY_FLOOR_HALF_SIDE_M,
+                                  WHEEL_RADIUS_M, WHEEL_SEPARATION_M, Scene, Solid, empty_bounds)
 
-WHEEL_RADIUS_M = 0.036
-WHEEL_SEPARATION_M = 0.235
-BODY_RADIUS_M = 0.165
 WHEEL_MAX_TORQUE_NM = 2.0
-
-CAN_HEIGHT_M = 0.122
-CAN_RADIUS_M = 0.033
-CAN_MASS_KG = 0.37
 CAN_LATERAL_FRICTION = 0.5
+FLOOR_DEPTH_M = 10.0
+"""Thickness of a coloured floor slab, as deep as pybullet's plane (m)."""
 CAN_RGBA = (0.8, 0.05, 0.05, 1.0)
 """Default can colour (red, green, blue, alpha in 0-1)."""
 
@@ -45,6 +44,11 @@ RENDERERS = ('auto', 'egl', 'tiny')
 def package_urdf_path() -> str:
     """The robot URDF of the installed can_seeker package (also its robot_description)."""
     return os.path.join(rospkg.RosPack().get_path('can_seeker'), 'urdf', 'can_seeker_robot.urdf')
+
+
+def package_worlds_dir() -> str:
+    """The world files of the installed can_seeker package."""
+    return os.path.join(rospkg.RosPack().get_path('can_seeker'), 'worlds')
 
 
 @dataclass(frozen=True)
@@ -90,15 +94,17 @@ def rgba_to_image(rgba: np.ndarray, encoding: str) -> np.ndarray:
 
 
 class World:
-    """Floor, robot (from ``urdf_path``) and can; stepped at ``physics_rate_hz``.
+    """Floor, walls and obstacles of a :class:`Scene`, robot (from ``urdf_path``) and can;
+    stepped at ``physics_rate_hz``.
 
     ``renderer`` is 'auto' (EGL, TinyRenderer fallback), 'egl' (RuntimeError if unusable) or
     'tiny'. ``gui`` opens the pybullet GUI (needs a display); it renders with its own OpenGL.
+    Without a scene the world is the empty floor with the can 1 m ahead.
     """
 
     def __init__(self, urdf_path: str, camera: CameraSpec, physics_rate_hz: float = 240.0,
                  renderer: str = 'auto', gui: bool = False,
-                 can_rgba: Sequence[float] = CAN_RGBA):
+                 can_rgba: Sequence[float] = CAN_RGBA, scene: Optional[Scene] = None):
         if renderer not in RENDERERS:
             raise ValueError('renderer must be one of %s, got %r'
                              % (', '.join(RENDERERS), renderer))
@@ -117,7 +123,8 @@ class World:
         client.setAdditionalSearchPath(pybullet_data.getDataPath())
         client.setGravity(0.0, 0.0, -9.81)
         client.setTimeStep(self.dt_s)
-        client.loadURDF('plane.urdf')
+        self._floor = None
+        self._solids = {}
         self._robot = client.loadURDF(urdf_path, useFixedBase=False)
         self._wheel_joints = self._joint_indices(('left_wheel_joint', 'right_wheel_joint'))
         dynamics = client.getDynamicsInfo(self._robot, -1)
@@ -125,8 +132,9 @@ class World:
         self._inertial_in_base = (dynamics[3], dynamics[4])
         self._can = self._create_can(can_rgba)
         self._can_home = (1.0, 0.0)
+        self.scene = None
+        self.set_scene(scene if scene is not None else Scene(empty_bounds(), can_xy=(1.0, 0.0)))
         self.reset_robot()
-        self.place_can(*self._can_home)
         if self.renderer_name == 'egl' and not self._renders_scene():
             client.unloadPlugin(self._egl_plugin)
             self._egl_plugin = -1
@@ -134,6 +142,54 @@ class World:
         if renderer == 'egl' and self.renderer_name != 'egl':
             self.close()
             raise RuntimeError('the EGL renderer is not available')
+
+    def set_scene(self, scene: Scene):
+        """Rebuild the floor, walls and obstacles of ``scene`` and stand the can at its place
+        (kept where it is when the scene has none); the robot is not moved."""
+        client = self._client
+        for body in list(self._solids) + ([self._floor] if self._floor is not None else []):
+            client.removeBody(body)
+        self._floor = self._create_floor(scene.floor_rgba)
+        self._solids = {self._create_solid(solid, scene.colour_of(solid)): solid.name
+                        for solid in scene.solids}
+        self.scene = scene
+        self.place_can(*(scene.can_xy if scene.can_xy is not None else self._can_home))
+
+    def _create_floor(self, rgba: Optional[Sequence[float]]) -> int:
+        """pybullet's checker plane, or a slab of the same size in one colour."""
+        client = self._client
+        if rgba is None:
+            return client.loadURDF('plane.urdf')
+        half_extents = (EMPTY_FLOOR_HALF_SIDE_M, EMPTY_FLOOR_HALF_SIDE_M, FLOOR_DEPTH_M / 2.0)
+        floor = client.createMultiBody(
+            baseMass=0.0,
+            baseCollisionShapeIndex=client.createCollisionShape(pybullet.GEOM_BOX,
+                                                                halfExtents=half_extents),
+            baseVisualShapeIndex=client.createVisualShape(pybullet.GEOM_BOX,
+                                                          halfExtents=half_extents,
+                                                          rgbaColor=list(rgba)),
+            basePosition=(0.0, 0.0, -FLOOR_DEPTH_M / 2.0))
+        client.changeDynamics(floor, -1, lateralFriction=1.0)
+        return floor
+
+    def _create_solid(self, solid: Solid, rgba: Sequence[float]) -> int:
+        """A static box or cylinder standing on the floor."""
+        client = self._client
+        if solid.shape == 'cylinder':
+            radius = solid.size_x_m / 2.0
+            collision = client.createCollisionShape(pybullet.GEOM_CYLINDER, radius=radius,
+                                                    height=solid.height_m)
+            visual = client.createVisualShape(pybullet.GEOM_CYLINDER, radius=radius,
+                                              length=solid.height_m, rgbaColor=list(rgba))
+        else:
+            half_extents = (solid.size_x_m / 2.0, solid.size_y_m / 2.0, solid.height_m / 2.0)
+            collision = client.createCollisionShape(pybullet.GEOM_BOX, halfExtents=half_extents)
+            visual = client.createVisualShape(pybullet.GEOM_BOX, halfExtents=half_extents,
+                                              rgbaColor=list(rgba))
+        return client.createMultiBody(
+            baseMass=0.0, baseCollisionShapeIndex=collision, baseVisualShapeIndex=visual,
+            basePosition=(solid.x_m, solid.y_m, solid.height_m / 2.0),
+            baseOrientation=client.getQuaternionFromEuler((0.0, 0.0, solid.yaw_rad)))
 
     def _load_egl_plugin(self) -> int:
         """Load pybullet's EGL renderer (before any body exists); -1 when it is unavailable."""
@@ -241,10 +297,27 @@ class World:
         position, orientation = self._client.getBasePositionAndOrientation(self._can)
         return tuple(position), tuple(orientation)
 
+    def touched_objects(self) -> FrozenSet[str]:
+        """Names of everything but the floor the robot touched in the last step ('can', wall
+        and obstacle names)."""
+        names = set()
+        for point in self._client.getContactPoints(bodyA=self._robot):
+            if point[8] > CONTACT_TOLERANCE_M or point[2] == self._floor:
+                continue
+            names.add('can' if point[2] == self._can else self._solids.get(point[2], 'unknown'))
+        return frozenset(names)
+
     def robot_touches_can(self) -> bool:
         """Whether any part of the robot touched the can in the last step."""
-        return any(point[8] <= CONTACT_TOLERANCE_M
-                   for point in self._client.getContactPoints(self._robot, self._can))
+        return 'can' in self.touched_objects()
+
+    def scan(self, lidar: LidarSpec) -> np.ndarray:
+        """Ranges (m) of a lidar on the robot (see :class:`LidarSpec`), from ray casts against
+        every body; the robot's own body lies below the beams."""
+        state = self.robot_state()
+        starts, ends = lidar.rays(state.position[0], state.position[1], state.yaw_rad)
+        hits = self._client.rayTestBatch(starts.tolist(), ends.tolist())
+        return lidar.ranges([hit[2] if hit[0] >= 0 else 1.0 for hit in hits])
 
     def camera_pose(self) -> Tuple[np.ndarray, np.ndarray]:
         """camera_link position (m) and rotation matrix (columns x forward, y left, z up), world."""

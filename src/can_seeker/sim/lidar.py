@@ -1,0 +1,57 @@
+"""A planar 360-degree lidar on the robot: its beams as rays and their hits as LaserScan ranges.
+
+The sensor frame (``base_scan``) sits ``height_m`` above base_link with the same axes; beam i
+points at angle_min + i * angle_increment about z, counter-clockwise from x (REP-103), starting
+at -pi. Ranges follow REP-117: a beam that hits nothing within range_max reads +inf.
+"""
+import math
+from dataclasses import dataclass
+from typing import Tuple
+
+import numpy as np
+
+FRAME = 'base_scan'
+
+
+@dataclass(frozen=True)
+class LidarSpec:
+    """Beam count, range limits (m) and mounting height over base_link (m)."""
+
+    beams: int = 360
+    range_min_m: float = 0.12
+    range_max_m: float = 8.0
+    height_m: float = 0.1
+
+    @property
+    def angle_min_rad(self) -> float:
+        """Angle of the first beam (rad)."""
+        return -math.pi
+
+    @property
+    def angle_increment_rad(self) -> float:
+        """Angle between neighbouring beams (rad)."""
+        return 2.0 * math.pi / self.beams
+
+    @property
+    def angle_max_rad(self) -> float:
+        """Angle of the last beam (rad)."""
+        return self.angle_min_rad + (self.beams - 1) * self.angle_increment_rad
+
+    def angles_rad(self) -> np.ndarray:
+        """Every beam's angle in the sensor frame (rad)."""
+        return self.angle_min_rad + self.angle_increment_rad * np.arange(self.beams)
+
+    def rays(self, x_m: float, y_m: float, yaw_rad: float) -> Tuple[np.ndarray, np.ndarray]:
+        """(starts, ends), N x 3 world points (m), of the beams of a lidar on a robot at (x, y)
+        heading ``yaw_rad``: each beam from range_min to range_max."""
+        world_angles = yaw_rad + self.angles_rad()
+        directions = np.stack([np.cos(world_angles), np.sin(world_angles),
+                               np.zeros(self.beams)], axis=1)
+        origin = np.array((x_m, y_m, self.height_m))
+        return origin + self.range_min_m * directions, origin + self.range_max_m * directions
+
+    def ranges(self, hit_fractions: np.ndarray) -> np.ndarray:
+        """Ranges (m, float32) from the hit fraction of each ray (1 or more: no hit -> inf)."""
+        fractions = np.asarray(hit_fractions, dtype=float)
+        ranges = self.range_min_m + fractions * (self.range_max_m - self.range_min_m)
+        return np.where(fractions < 1.0, ranges, np.inf).astype(np.float32)
