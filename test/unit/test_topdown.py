@@ -5,7 +5,8 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.evaluation.topdown import CAN, PATH, TopDownView, draw_topdown, plot_trajectory, \
+from can_seeker.evaluation.topdown import CAN, COVERED, PATH, SENSED_OBSTACLE, CoverageMap, \
+    TopDownView, draw_topdown, plot_trajectory, \
     side_by_side
 
 
@@ -46,3 +47,19 @@ def test_plot_trajectory_writes_a_png(tmp_path):
                     (1.5, 0.3), 0.165, 0.033, 0.25, 'test run')
     image = cv2.imread(filename)
     assert image is not None and image.shape[0] > 100 and image.std() > 5
+
+
+def test_coverage_map_is_drawn_under_the_path():
+    values = np.full((20, 20), -1, np.int8)
+    values[10:12, 12:14] = 100          # obstacle around x 0.2-0.4, y 0.0-0.2
+    values[5:10, 5:10] = 0              # covered floor around x -0.5..0, y -0.5..0
+    coverage = CoverageMap(-1.0, -1.0, 0.1, values)
+    view = TopDownView(0.0, 0.0, 0.01, 200)
+    image = draw_topdown(view, [], (0.9, 0.9, 0.0), (0.9, -0.9), 0.05, 0.033,
+                         coverage=coverage)
+    column, row = view.to_px(0.25, 0.15)
+    assert tuple(image[row, column]) == SENSED_OBSTACLE
+    column, row = view.to_px(-0.22, -0.27)
+    assert tuple(image[row, column]) == COVERED
+    column, row = view.to_px(-0.7, 0.7)
+    assert tuple(image[row, column]) == (255, 255, 255)

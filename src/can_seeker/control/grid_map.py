@@ -125,3 +125,11 @@ class GridMap:
         centres = self.centre_of(ox + x0, oy + y0).reshape(-1, 2)
         near = np.linalg.norm(centres - np.asarray(centre_xy, float), axis=1) <= radius_m
         return centres[near]
+
+    def occupancy_values(self) -> np.ndarray:
+        """The grid as nav_msgs/OccupancyGrid data (rows along y, columns along x, row-major
+        from the origin cell): 100 obstacle, 0 floor the camera covered, -1 not covered."""
+        values = np.full(self.seen.shape, -1, np.int8)
+        values[self.seen] = 0
+        values[self.occupied()] = 100
+        return values.T

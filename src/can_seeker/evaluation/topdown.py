@@ -6,7 +6,7 @@ the right, y up, so a left turn (positive yaw, REP-103) turns counter-clockwise 
 """
 import math
 from dataclasses import dataclass
-from typing import Sequence, Tuple
+from typing import Optional, Sequence, Tuple
 
 import cv2
 import matplotlib
@@ -22,6 +22,19 @@ ROBOT = (90, 90, 90)
 HEADING = (0, 0, 0)
 CAN = (30, 30, 220)
 GRID_STEP_M = 0.5
+COVERED = (200, 235, 200)
+SENSED_OBSTACLE = (60, 60, 60)
+
+
+@dataclass(frozen=True)
+class CoverageMap:
+    """The robot's own map (nav_msgs/OccupancyGrid layout): ``values`` rows along y from
+    ``origin`` (m, odom), ``resolution_m`` per cell; 100 obstacle, 0 covered, -1 not covered."""
+
+    origin_x_m: float
+    origin_y_m: float
+    resolution_m: float
+    values: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -70,11 +83,33 @@ def _draw_grid(image: np.ndarray, view: TopDownView):
                 cv2.line(image, (0, row), (view.size_px - 1, row), GRID, 1)
 
 
+def _draw_coverage(image: np.ndarray, view: TopDownView, coverage: CoverageMap):
+    """Covered floor tinted green, sensed obstacle cells dark grey (every pixel looks up the
+    cell under its centre)."""
+    half = view.size_px / 2.0
+    pixels = np.arange(view.size_px)
+    xs = view.centre_x_m + (pixels - half) * view.metres_per_px
+    ys = view.centre_y_m - (pixels - half) * view.metres_per_px
+    columns = np.floor((xs - coverage.origin_x_m) / coverage.resolution_m).astype(int)
+    rows = np.floor((ys - coverage.origin_y_m) / coverage.resolution_m).astype(int)
+    inside_columns = (columns >= 0) & (columns < coverage.values.shape[1])
+    inside_rows = (rows >= 0) & (rows < coverage.values.shape[0])
+    values = np.full((view.size_px, view.size_px), -1, int)
+    values[np.ix_(inside_rows, inside_columns)] = coverage.values[
+        np.ix_(rows[inside_rows], columns[inside_columns])]
+    image[(values >= 0) & (values < 50)] = COVERED
+    image[values >= 50] = SENSED_OBSTACLE
+
+
 def draw_topdown(view: TopDownView, path: Sequence[Sequence[float]],
                  robot_pose: Sequence[float], can_xy: Sequence[float], robot_radius_m: float,
-                 can_radius_m: float, caption: str = '') -> np.ndarray:
-    """A BGR frame: grid every 0.5 m, the path so far, the robot (x, y, yaw) and the can."""
+                 can_radius_m: float, caption: str = '',
+                 coverage: Optional[CoverageMap] = None) -> np.ndarray:
+    """A BGR frame: the robot's coverage map when given, grid every 0.5 m, the path so far,
+    the robot (x, y, yaw) and the can."""
     image = np.full((view.size_px, view.size_px, 3), BACKGROUND, np.uint8)
+    if coverage is not None:
+        _draw_coverage(image, view, coverage)
     _draw_grid(image, view)
     if len(path) > 1:
         points = np.array([view.to_px(x, y) for x, y in path], np.int32)

@@ -17,7 +17,7 @@ import numpy as np
 import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist, TwistStamped
-from nav_msgs.msg import Odometry
+from nav_msgs.msg import OccupancyGrid, Odometry
 from sensor_msgs.msg import CameraInfo, LaserScan
 from std_msgs.msg import String
 from std_srvs.srv import Empty, EmptyResponse
@@ -32,6 +32,7 @@ from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
 
 BASE_FRAME = 'base_link'
+COVERAGE_PERIOD_S = 1.0
 SHUTDOWN_ZERO_COUNT = 5
 SHUTDOWN_ZERO_SPACING_S = 0.02
 TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
@@ -61,6 +62,9 @@ class CanStopperNode:
         self.cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
         self.stamped_cmd_pub = rospy.Publisher('cmd_vel_stamped', TwistStamped, queue_size=10)
         self.state_pub = rospy.Publisher('~state', String, queue_size=1, latch=True)
+        self.coverage_pub = rospy.Publisher('~coverage', OccupancyGrid, queue_size=1, latch=True)
+        self.coverage_s = -float('inf')
+        self.odom_frame = 'odom'
         self.published_state = None
         self.publish_state()
         rospy.Service('~reset', Empty, self.on_reset)
@@ -117,6 +121,7 @@ class CanStopperNode:
         if not all(math.isfinite(v) for v in (pose.position.x, pose.position.y, yaw)):
             rospy.logerr_throttle(5.0, 'can_stopper: ignoring odometry with a non-finite pose')
             return
+        self.odom_frame = odom.header.frame_id or self.odom_frame
         with self.lock:
             self.controller.observe_pose(Pose2D(pose.position.x, pose.position.y, yaw),
                                          rospy.get_time())
@@ -195,12 +200,35 @@ class CanStopperNode:
             elif stale:
                 # Leaves the controller's command history alone: its timing stays the frames'.
                 self.publish_command((0.0, 0.0), rospy.Time.from_sec(now))
+            coverage = None
+            if (self.controller.senses_obstacles
+                    and abs(now - self.coverage_s) >= COVERAGE_PERIOD_S):
+                self.coverage_s = now
+                coverage = self.controller.navigator.grid.occupancy_values()
+        if coverage is not None:
+            self.publish_coverage(coverage, now)
         if stale:
             rospy.logwarn_throttle(5.0, 'can_stopper: no %s for over %.2f s: zero Twist'
                                    % (('odometry', self.params.odom_timeout)
                                       if self.controller.wander
                                       else ('detection', self.params.detection_timeout)))
         self.publish_state()
+
+    def publish_coverage(self, values, now):
+        """The obstacle and coverage grid as an OccupancyGrid in odom (100 obstacle, 0 floor the
+        camera covered, -1 not covered)."""
+        grid = self.controller.navigator.grid
+        message = OccupancyGrid()
+        message.header.stamp = rospy.Time.from_sec(now)
+        message.header.frame_id = self.odom_frame
+        message.info.map_load_time = message.header.stamp
+        message.info.resolution = grid.resolution_m
+        message.info.width, message.info.height = values.shape[1], values.shape[0]
+        message.info.origin.position.x = grid.origin_m
+        message.info.origin.position.y = grid.origin_m
+        message.info.origin.orientation.w = 1.0
+        message.data = values.reshape(-1).tolist()
+        self.coverage_pub.publish(message)
 
     def publish_state(self, force=False):
         """Publish the state when it changed (or always, with ``force``)."""

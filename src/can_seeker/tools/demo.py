@@ -14,14 +14,17 @@ import sys
 import threading
 
 import cv2
+import numpy as np
 import rospy
 from cv_bridge import CvBridge, CvBridgeError
+from nav_msgs.msg import OccupancyGrid
 from sensor_msgs.msg import Image
 
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
 from can_seeker.sim.simulation import PARAMS as SIM_PARAMS, random_can_position
-from can_seeker.evaluation.topdown import TopDownView, draw_topdown, plot_trajectory, side_by_side
+from can_seeker.evaluation.topdown import (CoverageMap, TopDownView, draw_topdown,
+                                           plot_trajectory, side_by_side)
 from can_seeker.evaluation.trials import Criteria
 from can_seeker.evaluation.video import Mp4Writer
 
@@ -49,7 +52,8 @@ def parse_args(argv):
 
 class VideoRecorder:
     """Annotated camera frames from image_converter, each next to the top-down view of the
-    moment, into an MP4 at the camera rate."""
+    moment (with can_stopper's map of covered floor and sensed obstacles), into an MP4 at the
+    camera rate."""
 
     def __init__(self, filename, fps, monitor, view, criteria):
         self.writer = Mp4Writer(filename, fps)
@@ -59,8 +63,16 @@ class VideoRecorder:
         self.bridge = CvBridge()
         self.lock = threading.Lock()
         self.closed = False
+        self.coverage = None
+        rospy.Subscriber('/can_stopper/coverage', OccupancyGrid, self.on_coverage, queue_size=1)
         rospy.Subscriber('/image_converter/annotated', Image, self.on_image, queue_size=5,
                          buff_size=2 ** 24)
+
+    def on_coverage(self, grid):
+        info = grid.info
+        values = np.array(grid.data, np.int8).reshape(info.height, info.width)
+        self.coverage = CoverageMap(info.origin.position.x, info.origin.position.y,
+                                    info.resolution, values)
 
     def on_image(self, message):
         try:
@@ -76,7 +88,7 @@ class VideoRecorder:
         caption = 't %.1f s  %s' % (message.header.stamp.to_sec() - self.monitor.start_s,
                                     self.monitor.state or '')
         top = draw_topdown(self.view, path, pose, can_xy, self.criteria.robot_radius_m,
-                           self.criteria.can_radius_m, caption)
+                           self.criteria.can_radius_m, caption, self.coverage)
         with self.lock:
             if not self.closed:
                 self.writer.write(side_by_side(camera, top))
