@@ -87,3 +87,20 @@ def test_summary_of_nothing():
     summary = summarise([], CRITERIA)
     assert summary['success_rate'] is None
     assert 'n/a' in summary_table(summary)
+
+
+def test_contacts_by_object_and_hidden_cans_are_summarised():
+    touching = judge(0, (1.0, 0.0), 10.0, (0.0, 0.0), 0.0, (1.0, 0.0), True, 1.0, 12.0, 6.0,
+                     CRITERIA, ('wall_front', 'obstacle_2'), False)
+    assert not touching.success and touching.contact_objects == ['obstacle_2', 'wall_front']
+    hidden_ok = judge(1, (TARGET_CENTRE_M, 0.0), 10.0, (0.0, 0.0), 0.0, (TARGET_CENTRE_M, 0.0),
+                      False, 2.0, 12.0, 6.0, CRITERIA, (), False)
+    seen = judge(2, (TARGET_CENTRE_M, 0.0), 10.0, (0.0, 0.0), 0.0, (TARGET_CENTRE_M, 0.0),
+                 False, 3.0, 12.0, 6.0, CRITERIA, (), True)
+    summary = summarise([touching, hidden_ok, seen], CRITERIA)
+    assert summary['contact_objects'] == {'obstacle_2': 1, 'wall_front': 1}
+    assert (summary['can_hidden_at_start'], summary['successes_can_hidden_at_start']) == (2, 1)
+    assert summary['path_length_median_m'] == 2.0
+    table = summary_table(summary)
+    assert '| trials with contact (any object) | 1 (obstacle_2 in 1, wall_front in 1) |' in table
+    assert '| can not visible from the start | 2 (1 of them succeeded) |' in table

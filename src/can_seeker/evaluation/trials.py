@@ -1,10 +1,13 @@
 """Closed-loop trials judged against ground truth, and their summary.
 
 The truth is the simulator's: base_link pose from ``/odom``, the can's centre from
-``/sim/can_pose``, contact from ``/sim/contact``. A trial succeeds when the controller reached
-STOPPED within the time limit, the true gap is within ``gap_tolerance_m`` of the stop distance,
-the can is within ``bearing_tolerance_deg`` of straight ahead and the robot never touched it.
+``/sim/can_pose``, contact with anything but the floor from ``/sim/contact`` (which objects from
+``/sim/contacts``). A trial succeeds when the controller reached STOPPED within the time limit,
+the true gap is within ``gap_tolerance_m`` of the stop distance, the can is within
+``bearing_tolerance_deg`` of straight ahead and the robot never touched anything (can, wall or
+obstacle). Robot and can sizes come from the world description (``sim/scene.py``).
 """
+import collections
 import math
 import statistics
 from dataclasses import asdict, dataclass
@@ -12,6 +15,7 @@ from typing import Iterable, List, Optional, Sequence, Tuple
 
 from can_seeker.control.controller import PARAMS as CONTROL_PARAMS
 from can_seeker.params import defaults
+from can_seeker.sim.scene import CAN_RADIUS_M, ROBOT_RADIUS_M
 
 CONTROL = defaults(CONTROL_PARAMS)
 
@@ -24,8 +28,8 @@ class Criteria:
     gap_tolerance_m: float = 0.02
     bearing_tolerance_deg: float = 3.0
     time_limit_s: float = 90.0
-    robot_radius_m: float = CONTROL.robot_radius
-    can_radius_m: float = CONTROL.can_radius
+    robot_radius_m: float = ROBOT_RADIUS_M
+    can_radius_m: float = CAN_RADIUS_M
 
 
 def true_gap_and_bearing(base_xy: Sequence[float], base_yaw_rad: float,
@@ -55,7 +59,9 @@ class TrialResult:
 
     ``time_to_stop_s`` is sim time from the start to STOPPED (None if it never stopped);
     ``sim_s`` / ``wall_s`` the sim and wall-clock time the trial took; ``final_*`` the true
-    base_link pose at the end (odom, m and deg).
+    base_link pose at the end (odom, m and deg); ``contact_objects`` what the robot touched
+    ('can', wall and obstacle names); ``can_visible_from_start`` whether the start camera saw the
+    can unoccluded (None: not known).
     """
 
     index: int
@@ -73,6 +79,8 @@ class TrialResult:
     final_x_m: float = math.nan
     final_y_m: float = math.nan
     final_yaw_deg: float = math.nan
+    contact_objects: Sequence[str] = ()
+    can_visible_from_start: Optional[bool] = None
 
     def as_dict(self):
         """JSON-ready fields."""
@@ -82,7 +90,8 @@ class TrialResult:
 def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],
           base_xy: Sequence[float], base_yaw_rad: float, final_can_xy: Sequence[float],
           contact: bool, path_m: float, sim_s: float, wall_s: float,
-          criteria: Criteria) -> TrialResult:
+          criteria: Criteria, contact_objects: Sequence[str] = (),
+          can_visible_from_start: Optional[bool] = None) -> TrialResult:
     """The result of a trial from its true final state (``final_can_xy``: the can may have
     been pushed, so it is measured where it is, not where it was placed)."""
     gap_m, bearing_rad = true_gap_and_bearing(base_xy, base_yaw_rad, final_can_xy, criteria)
@@ -92,7 +101,8 @@ def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],
                and abs(math.degrees(bearing_rad)) <= criteria.bearing_tolerance_deg)
     return TrialResult(index, float(can_xy[0]), float(can_xy[1]), stopped, time_to_stop_s,
                        gap_m, math.degrees(bearing_rad), contact, path_m, sim_s, wall_s, success,
-                       float(base_xy[0]), float(base_xy[1]), math.degrees(base_yaw_rad))
+                       float(base_xy[0]), float(base_xy[1]), math.degrees(base_yaw_rad),
+                       sorted(contact_objects), can_visible_from_start)
 
 
 def _stats(values: List[float], kind: str) -> Optional[float]:
@@ -111,6 +121,9 @@ def summarise(results: Sequence[TrialResult], criteria: Criteria) -> dict:
     gap_errors = [abs(result.gap_m - criteria.stop_distance_m) for result in stopped]
     bearing_errors = [abs(result.bearing_deg) for result in stopped]
     times = [result.time_to_stop_s for result in stopped]
+    hidden = [result for result in results if result.can_visible_from_start is False]
+    touched = collections.Counter(name for result in results
+                                  for name in set(result.contact_objects))
     sim_total = sum(result.sim_s for result in results)
     wall_total = sum(result.wall_s for result in results)
     return {
@@ -126,6 +139,10 @@ def summarise(results: Sequence[TrialResult], criteria: Criteria) -> dict:
         'time_to_stop_median_s': _stats(times, 'median'),
         'time_to_stop_max_s': _stats(times, 'max'),
         'contacts': sum(result.contact for result in results),
+        'contact_objects': dict(sorted(touched.items())),
+        'path_length_median_m': _stats([result.path_length_m for result in results], 'median'),
+        'can_hidden_at_start': len(hidden),
+        'successes_can_hidden_at_start': sum(result.success for result in hidden),
         'real_time_factor': sim_total / wall_total if wall_total > 0.0 else None,
         'criteria': asdict(criteria),
     }
@@ -133,6 +150,13 @@ def summarise(results: Sequence[TrialResult], criteria: Criteria) -> dict:
 
 def _format(value, scale=1.0, digits=3, unit=''):
     return 'n/a' if value is None else '%.*f%s' % (digits, value * scale, unit)
+
+
+def _touched(summary: dict) -> str:
+    objects = summary.get('contact_objects') or {}
+    if not objects:
+        return ''
+    return ' (%s)' % ', '.join('%s in %d' % item for item in objects.items())
 
 
 def summary_table(summary: dict) -> str:
@@ -152,7 +176,10 @@ def summary_table(summary: dict) -> str:
                                                            digits=1),
                                                    _format(summary['time_to_stop_max_s'],
                                                            digits=1, unit=' s sim'))),
-        ('contacts', '%d' % summary['contacts']),
+        ('trials with contact (any object)', '%d%s' % (summary['contacts'], _touched(summary))),
+        ('path length median', _format(summary['path_length_median_m'], digits=2, unit=' m')),
+        ('can not visible from the start', '%d (%d of them succeeded)'
+         % (summary['can_hidden_at_start'], summary['successes_can_hidden_at_start'])),
         ('real-time factor', _format(summary['real_time_factor'], digits=2, unit='x')),
     ]
     lines = ['| metric | value |', '|---|---|']

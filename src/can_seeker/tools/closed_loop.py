@@ -7,7 +7,9 @@ unpaused; the monitors record from exactly that time. At the end the simulator i
 so the final state is measured on a still world.
 
 Shared by ``scripts/evaluate``, ``scripts/demo`` and the closed-loop rostests. Ground truth comes
-from the simulator: ``/odom`` (true base pose), ``/sim/can_pose``, ``/sim/contact``.
+from the simulator: ``/odom`` (true base pose), ``/sim/can_pose``, ``/sim/contact`` and
+``/sim/contacts`` (what was touched). In rooms and world files each trial first rebuilds the world
+from its seed (``/sim/new_world``).
 """
 import os
 import signal
@@ -23,12 +25,14 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty
 
-from can_seeker.srv import PlaceCan, ResetTrial
+from can_seeker.msg import Contacts
+from can_seeker.srv import NewWorld, PlaceCan, ResetTrial
 from can_seeker.camera_geometry import yaw_from_quaternion
 from can_seeker.evaluation.trials import judge, path_length
 
 STATE_TOPIC = '/can_stopper/state'
-SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/pause_physics', '/sim/unpause_physics',
+SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/new_world', '/sim/pause_physics',
+            '/sim/unpause_physics',
             '/can_stopper/reset')
 POLL_S = 0.01
 SETTLE_S = 0.5
@@ -120,6 +124,7 @@ class TruthMonitor:
         rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=None)
         rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None)
         rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=None)
+        rospy.Subscriber('/sim/contacts', Contacts, self._on_contacts, queue_size=None)
         rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10)
 
     def start(self, now_s):
@@ -130,6 +135,7 @@ class TruthMonitor:
             self.pose = None
             self.can_xy = None
             self.contact = False
+            self.contact_objects = set()
             self.state = None
             self.stopped_s = None
             self.seen_search = False
@@ -153,6 +159,11 @@ class TruthMonitor:
         if message.data and rospy.get_time() > self.start_s:
             with self.lock:
                 self.contact = True
+
+    def _on_contacts(self, message):
+        if message.objects and message.header.stamp.to_sec() > self.start_s:
+            with self.lock:
+                self.contact_objects.update(message.objects)
 
     def _on_state(self, message):
         with self.lock:
@@ -180,6 +191,16 @@ class TrialRunner:
         self.pause = rospy.ServiceProxy('/sim/pause_physics', Empty, persistent=True)
         self.unpause = rospy.ServiceProxy('/sim/unpause_physics', Empty, persistent=True)
         self.reset_controller = rospy.ServiceProxy('/can_stopper/reset', Empty, persistent=True)
+        self.new_world_service = rospy.ServiceProxy('/sim/new_world', NewWorld)
+
+    def new_world(self, seed):
+        """Rebuild the simulator's world from ``seed`` (paused; :meth:`run` starts the trial);
+        ((can x, can y) in odom (m), whether the start camera sees the can)."""
+        self.pause()
+        response = self.new_world_service(seed)
+        if not response.success:
+            raise RuntimeError('new_world(%d) failed: %s' % (seed, response.message))
+        return (response.can_x, response.can_y), response.can_visible_from_start
 
     def start(self, can_xy):
         """Start a trial with the can centre at ``can_xy`` (odom, m); its start in sim time (s).
@@ -208,7 +229,7 @@ class TrialRunner:
             time.sleep(POLL_S)
         return True
 
-    def run(self, index, can_xy):
+    def run(self, index, can_xy, can_visible_from_start=None):
         """One trial with the can centre at ``can_xy`` (odom, m); returns a TrialResult.
 
         The simulator stays paused afterwards (the next :meth:`start` unpauses it).
@@ -223,6 +244,9 @@ class TrialRunner:
         if pose is None or final_can is None:
             raise RuntimeError('no ground truth from the simulator (/odom, /sim/can_pose)')
         time_to_stop = None if stopped_s is None else stopped_s - start_s
+        with self.monitor.lock:
+            contact_objects = sorted(self.monitor.contact_objects)
         return judge(index, can_xy, time_to_stop, pose[:2], pose[2], final_can, contact,
                      path_length(path), rospy.get_time() - start_s,
-                     time.monotonic() - start_wall, self.criteria)
+                     time.monotonic() - start_wall, self.criteria, contact_objects,
+                     can_visible_from_start)

@@ -2,8 +2,10 @@
 their own master, judged on the simulator's ground truth.
 
 The nodes start once (``demo.launch`` on a free port); between trials the sim and the controller
-are reset through their services. Each trial stands the can at a random bearing and distance
-(trial i uses seed + i, so ``--seed S+i --trials 1`` repeats it). Prints a progress bar, then a
+are reset through their services. Each trial rebuilds the world from its seed (trial i uses
+seed + i, so ``--seed S+i --trials 1`` repeats it): in the empty world the can stands at a random
+bearing and distance, in a room (``--world room``) the obstacles and the can are drawn anew, in a
+world file the can is drawn unless the file places it. Prints a progress bar, then a
 summary table; ``--json FILE`` writes every trial and the summary. Exits 1 when a trial failed.
 
 Scale out: ``--jobs N`` runs N independent systems (each its own master on its own port) in
@@ -25,13 +27,14 @@ from tqdm import tqdm
 
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
-from can_seeker.sim.simulation import PARAMS as SIM_PARAMS, random_can_position
+from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
 from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
                                          compare_runs, merge_records, parse_shard,
                                          shard_indices)
 from can_seeker.evaluation.trials import Criteria, summarise, summary_table
 
 SIM = defaults(SIM_PARAMS)
+WORLD_OPTIONS = ('world', 'obstacles', 'room_size', 'floor_rgba', 'wall_rgba', 'obstacle_rgba')
 
 
 def parse_args(argv):
@@ -52,6 +55,18 @@ def parse_args(argv):
                         help='camera pitch below the horizon (deg)')
     parser.add_argument('--can-rgba', default=SIM.can_rgba,
                         help='can colour: red green blue alpha in 0-1')
+    parser.add_argument('--world', default=SIM.world,
+                        help='empty, room or a YAML world file (a path or a name in worlds/)')
+    parser.add_argument('--obstacles', type=int, default=SIM.obstacles,
+                        help='random obstacles in the room')
+    parser.add_argument('--room-size', type=_room_size,
+                        default='%gx%g' % (SIM.room_length, SIM.room_width), metavar='LxW',
+                        help='room length (x) by width (y) in metres, e.g. 6x4')
+    parser.add_argument('--floor-rgba', default=SIM.floor_rgba,
+                        help='floor colour "R G B A" in 0-1 (empty: the checker floor)')
+    parser.add_argument('--wall-rgba', default=SIM.wall_rgba, help='wall colour "R G B A"')
+    parser.add_argument('--obstacle-rgba', default=SIM.obstacle_rgba,
+                        help='obstacle colour "R G B A"')
     parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=0.0,
@@ -79,6 +94,15 @@ def parse_args(argv):
     return args
 
 
+def _room_size(text):
+    try:
+        length_m, width_m = (float(part) for part in text.lower().split('x'))
+    except ValueError:
+        raise argparse.ArgumentTypeError('a room size is LxW in metres, e.g. 6x4, got %r'
+                                         % (text,))
+    return '%gx%g' % (length_m, width_m)
+
+
 def _shard(text):
     try:
         return parse_shard(text)
@@ -88,9 +112,17 @@ def _shard(text):
 
 def launch_args(args):
     """demo.launch arguments for the camera and can options."""
+    room_length, room_width = args.room_size.split('x')
+    world = args.world
+    if world not in ('empty', 'room') and os.path.exists(world):
+        world = os.path.abspath(world)
     return {'width': args.width, 'height': args.height, 'camera_height': args.camera_height,
             'camera_pitch_deg': args.camera_pitch, 'can_rgba': args.can_rgba,
-            'real_time_factor': args.real_time_factor, 'can_placement': 'fixed',
+            'real_time_factor': args.real_time_factor, 'can_placement': 'random',
+            'can_min_distance': args.min_distance, 'can_max_distance': args.max_distance,
+            'world': world, 'obstacles': args.obstacles, 'room_length': room_length,
+            'room_width': room_width, 'floor_rgba': args.floor_rgba,
+            'wall_rgba': args.wall_rgba, 'obstacle_rgba': args.obstacle_rgba,
             'lockstep': str(args.lockstep).lower()}
 
 
@@ -98,18 +130,21 @@ def settings(args):
     """The options that define the evaluation, for the JSON record."""
     return {name: getattr(args, name) for name in (
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
-        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep', 'shard')}
+        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep', 'shard')
+        + WORLD_OPTIONS}
 
 
 def run_trial(runner, args, index):
-    """Trial ``index`` with the can placed from seed + index; failures are reported at once."""
-    can_xy = random_can_position(args.seed + index, args.min_distance, args.max_distance)
-    result = runner.run(index, can_xy)
+    """Trial ``index`` in the world of seed + index; failures are reported at once."""
+    can_xy, visible = runner.new_world(args.seed + index)
+    result = runner.run(index, can_xy, visible)
     if not result.success:
-        tqdm.write('trial %d (seed %d) failed: can at (%.2f, %.2f), stopped=%s, gap %.3f m, '
+        tqdm.write('trial %d (seed %d) failed: can at (%.2f, %.2f)%s, stopped=%s, gap %.3f m, '
                    'bearing %.2f deg, contact=%s'
-                   % (index, args.seed + index, result.can_x_m, result.can_y_m, result.stopped,
-                      result.gap_m, result.bearing_deg, result.contact), file=sys.stderr)
+                   % (index, args.seed + index, result.can_x_m, result.can_y_m,
+                      '' if visible else ' (not visible from the start)', result.stopped,
+                      result.gap_m, result.bearing_deg,
+                      ', '.join(result.contact_objects) or result.contact), file=sys.stderr)
     return result
 
 
@@ -142,7 +177,8 @@ def child_command(args, shard, json_path):
     """The command line of one shard of a ``--jobs`` run."""
     command = [sys.executable, os.path.abspath(sys.argv[0])]
     for name in ('trials', 'seed', 'min_distance', 'max_distance', 'width', 'height',
-                 'camera_height', 'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor'):
+                 'camera_height', 'camera_pitch', 'can_rgba', 'time_limit',
+                 'real_time_factor') + WORLD_OPTIONS:
         command += ['--' + name.replace('_', '-'), str(getattr(args, name))]
     if not args.lockstep:
         command.append('--no-lockstep')
@@ -207,6 +243,14 @@ def report_repeat(first, second):
     return comparison
 
 
+def _world_text(record_settings):
+    world = record_settings.get('world', 'empty')
+    if world == 'room':
+        return 'room %s m with %d obstacles' % (record_settings['room_size'],
+                                                record_settings['obstacles'])
+    return world
+
+
 def _number(value):
     return 'n/a' if value is None else '%.4f' % value
 
@@ -223,11 +267,12 @@ def main():
         print('evaluate: interrupted while starting the nodes', file=sys.stderr)
         sys.exit(130)
     summary = summarise(results, criteria)
-    print('\nevaluate: %d trials, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, can %s'
-          % (len(results), record_settings['min_distance'], record_settings['max_distance'],
-             record_settings['width'], record_settings['height'],
-             record_settings['camera_height'], record_settings['camera_pitch'],
-             record_settings['can_rgba']))
+    print('\nevaluate: %d trials, %s world, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, '
+          'can %s' % (len(results), _world_text(record_settings),
+                      record_settings['min_distance'], record_settings['max_distance'],
+                      record_settings['width'], record_settings['height'],
+                      record_settings['camera_height'], record_settings['camera_pitch'],
+                      record_settings['can_rgba']))
     print(summary_table(summary))
     if args.json:
         record = {'settings': record_settings, 'summary': summary,
