@@ -39,7 +39,9 @@ if [ -n "$ros_setup" ]; then
     say "rosdep: every system dependency is installed"
   else
     say "rosdep: missing dependencies; running: rosdep install ${rosdep_args[*]} -y"
-    rosdep install "${rosdep_args[@]}" -y >>"$log" 2>&1 \
+    as_root=()
+    [ "$(id -u)" -ne 0 ] || as_root=(--as-root apt:false)  # root (e.g. a container) needs no sudo
+    rosdep install "${rosdep_args[@]}" "${as_root[@]}" -y >>"$log" 2>&1 \
       || { tail -n 30 "$log"; say "rosdep install failed (log: $log; a new rosdep needs 'sudo rosdep init' and 'rosdep update')"; exit 1; }
   fi
 else
