@@ -1,0 +1,1 @@
+"""Driving by hand: keyboard key bindings and speeds, the raw terminal, the priority mux."""
