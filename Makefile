@@ -1,12 +1,13 @@
 # can_seeker: `make demo` and `make test` set everything up on a fresh Debian 12 machine.
 SHELL := /bin/bash
 .DEFAULT_GOAL := help
-.PHONY: help setup test demo shell bench clean
+.PHONY: help setup test demo teleop shell bench clean
 
 help:
 	@echo "make setup  - install Debian packages, the venv and build the catkin workspace (idempotent)"
 	@echo "make test   - setup, then unit tests, catkin_lint and every rostest; prints 'N passed, N failed'"
 	@echo "make demo   - setup, then the headless closed-loop run (SEED=n to repeat one)"
+	@echo "make teleop - setup, then drive the simulated robot by keyboard with image windows (ARGS=\"gui:=true\")"
 	@echo "make shell  - setup, then a terminal where roslaunch/rosrun/rostopic/rosbag work"
 	@echo "make bench  - setup, then the vision and simulator benchmarks"
 	@echo "make clean  - remove the venv, workspace and logs of this checkout"
@@ -19,6 +20,9 @@ test: setup
 
 demo: setup
 	@bash tools/with_env.sh rosrun can_seeker demo $(if $(SEED),--seed $(SEED))
+
+teleop: setup
+	@bash tools/with_env.sh roslaunch can_seeker teleop.launch $(ARGS)
 
 shell: setup
 	@bash tools/shell.sh

@@ -6,12 +6,8 @@ Subscribes ``image`` (queue_size=1 and a large buff_size: always the newest fram
 The camera pose for range and bearing comes from TF (``~base_frame`` <- image frame), else
 from ``~camera_height``/``~camera_pitch_deg``.
 """
-import os
-import queue
-import threading
 import time
 
-import cv2
 import rospy
 import tf2_ros
 from dynamic_reconfigure.server import Server
@@ -19,6 +15,8 @@ from sensor_msgs.msg import CameraInfo, Image
 
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 from can_seeker.cfg import ImageConverterConfig
+from can_seeker.gui.display_check import OPENCV_WINDOW_PROBE, display_problem
+from can_seeker.gui.windows import ImageWindows
 from can_seeker.vision.report import PARAMS, can_report, fallback_pose
 from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
 from can_seeker.msg import CanDetection
@@ -40,33 +38,17 @@ def image_msg(header, array, encoding):
                  step=array.strides[0], data=array.tobytes())
 
 
-class Display:
-    """One thread owns every OpenCV window; callbacks only hand over their newest frames."""
-
-    def __init__(self):
-        self._frames = queue.Queue(maxsize=1)
-        threading.Thread(target=self._run, name='image_converter_display', daemon=True).start()
-
-    def offer(self, frames):
-        """Queue {window name: BGR or mono8 image}, dropping a frame not shown yet."""
-        try:
-            self._frames.get_nowait()
-        except queue.Empty:
-            pass
-        self._frames.put_nowait(frames)
-
-    def _run(self):
-        while not rospy.is_shutdown():
-            try:
-                frames = self._frames.get(timeout=0.1)
-            except queue.Empty:
-                cv2.waitKey(1)
-                continue
-            for name, image in frames.items():
-                cv2.imshow(name, cv2.resize(image, None, fx=0.5, fy=0.5,
-                                            interpolation=cv2.INTER_AREA))
-            cv2.waitKey(1)
-        cv2.destroyAllWindows()
+def warn_unless_remapped(*names):
+    """Warn like opencv_apps when an input topic still has its generic name."""
+    generic = [name for name in names
+               if rospy.resolve_name(name) == rospy.get_namespace() + name]
+    if generic:
+        rospy.logwarn("image_converter: topic %s not been remapped (listening on %s). Typical "
+                      "command-line usage:\n\t$ rosrun can_seeker image_converter "
+                      "image:=/camera/image_raw camera_info:=/camera/camera_info _show:=true"
+                      % (' and '.join("'%s'" % name for name in generic)
+                         + (' have' if len(generic) > 1 else ' has'),
+                         ', '.join(rospy.resolve_name(name) for name in generic)))
 
 
 class ImageConverterNode:
@@ -90,14 +72,17 @@ class ImageConverterNode:
         rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE,
                          tcp_nodelay=True)
 
-    @staticmethod
-    def _make_display(show):
+    def _make_display(self, show):
+        """Image windows when ~show is true and a window can be opened; else None (headless)."""
         if not show:
             return None
-        if not os.environ.get('DISPLAY'):
-            rospy.logwarn('~show is true but there is no display (DISPLAY unset): running headless')
+        problem = display_problem(OPENCV_WINDOW_PROBE)
+        if problem:
+            rospy.logwarn('image_converter: ~show is true but %s: running headless' % problem)
             return None
-        return Display()
+        windows = ImageWindows(self.config.window_width)
+        rospy.on_shutdown(windows.close)
+        return windows
 
     def on_reconfigure(self, config, _level):
         """Apply new thresholds atomically; invalid values fall back to the defaults."""
@@ -195,6 +180,7 @@ class ImageConverterNode:
 
 def main():
     rospy.init_node('image_converter')
+    warn_unless_remapped('image', 'camera_info')
     ImageConverterNode()
     rospy.spin()
 

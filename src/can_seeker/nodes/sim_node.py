@@ -12,7 +12,6 @@ Subscribes /cmd_vel, or in lockstep cmd_vel_stamped. Services /sim/reset, /sim/r
 thread between physics steps (in lockstep, after the current frame was answered).
 """
 import math
-import os
 import time
 
 import rospy
@@ -30,6 +29,7 @@ from can_seeker.sim import lidar
 from can_seeker.sim.call_queue import CallQueue
 from can_seeker.sim.lockstep import LockstepGate, header_stamp_s, parse_topics
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
+from can_seeker.gui.display_check import X11_PROBE, display_problem
 from can_seeker.params import read_params
 from can_seeker.sim.simulation import (PARAMS, Simulation, camera_spec, can_visible_from_start,
                                        checked_config, scene_for)
@@ -83,9 +83,11 @@ class SimNode:
     def __init__(self):
         config = checked_config(read_params(PARAMS, rospy.get_param, rospy.logwarn),
                                 rospy.logwarn, [package_worlds_dir()])
-        if config.gui and not os.environ.get('DISPLAY'):
-            rospy.logwarn('~gui is true but no display is set (DISPLAY); running headless')
-            config.gui = False
+        if config.gui:
+            problem = display_problem(X11_PROBE)
+            if problem:
+                rospy.logwarn('sim: ~gui is true but %s: running headless' % problem)
+                config.gui = False
         spec = camera_spec(config)
         world = World(package_urdf_path(), spec, config.physics_rate, config.renderer, config.gui,
                       config.can_color, config.scene)

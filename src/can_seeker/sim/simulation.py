@@ -36,8 +36,8 @@ WORLDS = ('empty', 'room')
 """Built-in worlds; any other ~world value is a world file."""
 
 PARAMS = (
-    Param('gui', False, 'open the pybullet GUI; only when a display exists (DISPLAY set), '
-          'headless otherwise'),
+    Param('gui', False, 'open the pybullet GUI; only when the X display can be opened, '
+          'headless with a warning otherwise'),
     Param('renderer', 'auto', 'camera renderer: auto (EGL, TinyRenderer if EGL fails), egl or '
           'tiny', choices=RENDERERS),
     Param('width', 320, 'image width (px)', 16, 4096),

@@ -20,8 +20,10 @@ PARAMS = DETECTOR_PARAMS + (
           'camera pose (deg, positive down)', -89.0, 89.0),
     Param('can_diameter', 0.066, 'diameter of the can, for the near surface and the width '
           'fallback range (m)', 0.001, 1.0),
-    Param('show', False, 'open OpenCV windows (origin, result, edges; half size); only when a '
-          'display exists'),
+    Param('show', False, 'open OpenCV windows (origin, result, edges); only when the display '
+          'can be opened, headless with a warning otherwise'),
+    Param('window_width', 640, 'width of each ~show window (px): images are scaled to it, '
+          'keeping their aspect ratio; 0 = image size', 0, 4096),
 )
 
 

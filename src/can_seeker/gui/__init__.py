@@ -1,0 +1,1 @@
+"""Windows on a display: whether the display can be opened, and the image windows."""
