@@ -33,8 +33,12 @@ def test_scan_marks_its_hit_and_clears_the_floor_before_it():
 
 def test_rays_passing_through_clear_an_obstacle_that_moved():
     grid = GridMap(0.1, 4.0)
-    grid.add_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
     for _ in range(3):
+        grid.add_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
+    for _ in range(3):
+        grid.add_scan((0.0, 0.0), np.array([[1.6, 0.0]]), np.array([False]))
+    assert grid.occupied()[grid.cell_of(1.0, 0.0)]     # a few misses do not erase it
+    for _ in range(10):
         grid.add_scan((0.0, 0.0), np.array([[1.6, 0.0]]), np.array([False]))
     assert not grid.occupied()[grid.cell_of(1.0, 0.0)]
 

@@ -2,9 +2,10 @@
 
 Two layers over the same square cells:
 
-- obstacle evidence from range scans (a hit adds, a ray passing through subtracts, both
-  clamped), so obstacles seen once stay known while they are in the camera's blind zone and
-  a moved object is cleared by the rays that later pass through its old place;
+- obstacle evidence from range scans (a hit adds four times what a ray passing through
+  subtracts, both clamped), so obstacles stay known while they are in the camera's blind zone
+  or a few frames of a scan miss them (a camera sees a tall obstacle's silhouette lean past its
+  base), and a moved object is cleared by the rays that keep passing through its old place;
 - coverage: the floor the camera has looked at, up to the range at which it would have found
   the can, stopping at obstacles. Exploration drives to where it has not looked yet.
 
@@ -16,9 +17,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-HIT_EVIDENCE = 3
+HIT_EVIDENCE = 4
 MISS_EVIDENCE = 1
-EVIDENCE_LIMIT = 6
+EVIDENCE_LIMIT = 12
 
 
 class GridMap:
