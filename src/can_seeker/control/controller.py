@@ -130,6 +130,7 @@ PARAMS = (
 FRONTIER_MIN_UNSEEN = 6
 SAFETY_RESERVE_M = 0.03
 STALL_CELLS = 5
+DIRECT_GAP_M = 0.5
 STALL_S = 6.0
 
 
@@ -409,8 +410,11 @@ class Controller:
         return command
 
     def _toward_can(self, now_s: float) -> Tuple[float, float]:
-        """APPROACH: the direct law, or a path around obstacles between the robot and the can."""
+        """APPROACH: the direct law, or a path around obstacles while the straight line to the
+        can crosses obstacles grown by the robot's radius and safety margin (never in the last
+        ``DIRECT_GAP_M``, where the direct law alone can stop in front of the can)."""
         if (self.can_xy is not None and self.can_navigate(now_s)
+                and self.sighting.gap_m > DIRECT_GAP_M
                 and self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
                                                          self.config.can_exclusion_radius)):
             command = self._follow_path(self.can_xy, now_s, self.can_xy)

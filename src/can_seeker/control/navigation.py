@@ -210,12 +210,12 @@ class Navigator:
     def straight_line_blocked(self, goal_xy: Sequence[float], exclude_xy=None,
                               exclude_radius_m: float = 0.0) -> bool:
         """True when the straight line from the robot to ``goal_xy`` crosses obstacles grown by
-        the robot's radius and the planning margin (the robot's own cell aside)."""
+        the robot's radius and the safety margin (the robot's own cell aside)."""
         start = self.grid.cell_of(self.pose.x, self.pose.y)
         goal = self.grid.cell_of(goal_xy[0], goal_xy[1])
         if start is None or goal is None:
             return False
-        blocked = self.blocked_cells(exclude_xy, exclude_radius_m)
+        blocked = self.blocked_cells(exclude_xy, exclude_radius_m, self.safety_margin_m)
         blocked[start] = False
         return planner.segment_blocked(blocked, start, goal)
 
