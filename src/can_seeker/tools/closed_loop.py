@@ -20,7 +20,7 @@ import time
 
 import rosgraph
 import rospy
-from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import PoseStamped, TwistStamped
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty
@@ -31,6 +31,8 @@ from can_seeker.camera_geometry import yaw_from_quaternion
 from can_seeker.evaluation.trials import judge, path_length
 
 STATE_TOPIC = '/can_stopper/state'
+COMMAND_TOPIC = '/cmd_vel_stamped'
+LIVE_TIMEOUT_S = 60.0
 SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/new_world', '/sim/pause_physics',
             '/sim/unpause_physics',
             '/can_stopper/reset')
@@ -121,11 +123,31 @@ class TruthMonitor:
     def __init__(self):
         self.lock = threading.Lock()
         self.start(0.0)
-        rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=None)
-        rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None)
-        rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=None)
-        rospy.Subscriber('/sim/contacts', Contacts, self._on_contacts, queue_size=None)
-        rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10)
+        self.commanding = threading.Event()
+        self.subscribers = [
+            rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=None),
+            rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None),
+            rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=None),
+            rospy.Subscriber('/sim/contacts', Contacts, self._on_contacts, queue_size=None),
+            rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10),
+            rospy.Subscriber(COMMAND_TOPIC, TwistStamped, lambda _: self.commanding.set(),
+                             queue_size=1),
+        ]
+
+    def wait_until_live(self, timeout_s):
+        """Block until every truth topic is connected and the controller has commanded once
+        (the camera -> detector -> controller chain runs); RuntimeError after ``timeout_s``.
+
+        Before that, the start of a trial could be missed: a subscription still being
+        connected silently loses the first messages.
+        """
+        deadline = time.monotonic() + timeout_s
+        while not (all(subscriber.get_num_connections() > 0 for subscriber in self.subscribers)
+                   and self.commanding.is_set()):
+            if time.monotonic() > deadline:
+                raise RuntimeError('the ground truth or the controller did not come up within '
+                                   '%.0f s' % timeout_s)
+            time.sleep(POLL_S)
 
     def start(self, now_s):
         """Forget the previous trial: record what is stamped after sim time ``now_s``."""
@@ -208,6 +230,7 @@ class TrialRunner:
         Paused, nothing moves and no frame is taken while the controller and the scene are
         reset, so the trial begins exactly at the reset, with the robot where it was put.
         """
+        self.monitor.wait_until_live(LIVE_TIMEOUT_S)
         self.pause()
         reset = self.reset_trial(True, can_xy[0], can_xy[1])
         if not reset.success:
