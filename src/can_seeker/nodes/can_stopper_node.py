@@ -26,6 +26,7 @@ from can_seeker.camera_geometry import (camera_pose_from_transform, intrinsics_f
                                         yaw_from_quaternion)
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
                                 detection_problem, sighting_from_detection)
+from can_seeker.control.frame_inputs import FrameInputs
 from can_seeker.control.navigation import Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from can_seeker.msg import CanDetection
@@ -33,6 +34,8 @@ from can_seeker.params import read_params
 
 BASE_FRAME = 'base_link'
 COVERAGE_PERIOD_S = 1.0
+LOCKSTEP_QUEUE = 100
+"""Odometry and scan messages kept in lockstep (a few arrive per camera frame)."""
 SHUTDOWN_ZERO_COUNT = 5
 SHUTDOWN_ZERO_SPACING_S = 0.02
 TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
@@ -68,14 +71,21 @@ class CanStopperNode:
         self.published_state = None
         self.publish_state()
         rospy.Service('~reset', Empty, self.on_reset)
-        rospy.Subscriber('/image_converter/detection', CanDetection, self.on_detection,
-                         queue_size=1, tcp_nodelay=True)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
-        rospy.Subscriber(self.params.odom_topic, Odometry, self.on_odom, queue_size=1,
-                         tcp_nodelay=True)
+        # Lockstep keeps every odometry and scan message: the answers must not depend on which
+        # ones a busy machine would have dropped.
+        input_queue = LOCKSTEP_QUEUE if self.params.lockstep else 1
+        odom_sub = rospy.Subscriber(self.params.odom_topic, Odometry, self.on_odom,
+                                    queue_size=input_queue, tcp_nodelay=True)
+        scan_sub = None
         if self.params.scan_topic:
-            rospy.Subscriber(self.params.scan_topic, LaserScan, self.on_scan, queue_size=1,
-                             tcp_nodelay=True)
+            scan_sub = rospy.Subscriber(self.params.scan_topic, LaserScan, self.on_scan,
+                                        queue_size=input_queue, tcp_nodelay=True)
+        self.frame_inputs = FrameInputs(
+            lambda: odom_sub.get_num_connections() > 0,
+            lambda: scan_sub is not None and scan_sub.get_num_connections() > 0)
+        rospy.Subscriber('/image_converter/detection', CanDetection, self.on_detection,
+                         queue_size=input_queue, tcp_nodelay=True)
         rospy.on_shutdown(self.on_shutdown)
         self.timer = rospy.Timer(rospy.Duration(1.0 / self.params.rate), self.on_timer)
 
@@ -122,9 +132,13 @@ class CanStopperNode:
             rospy.logerr_throttle(5.0, 'can_stopper: ignoring odometry with a non-finite pose')
             return
         self.odom_frame = odom.header.frame_id or self.odom_frame
+        pose_2d = Pose2D(pose.position.x, pose.position.y, yaw)
         with self.lock:
-            self.controller.observe_pose(Pose2D(pose.position.x, pose.position.y, yaw),
-                                         rospy.get_time())
+            if not self.params.lockstep:
+                self.controller.observe_pose(pose_2d, rospy.get_time())
+                return
+            self.frame_inputs.pose(pose_2d, odom.header.stamp.to_sec())
+            self.answer_frames()
 
     def on_scan(self, scan):
         """A range scan: its rays into base_link through the sensor's pose in TF."""
@@ -135,9 +149,13 @@ class CanStopperNode:
                                scan.range_min, scan.range_max)
         ends_3d = np.column_stack((ends, np.zeros(len(ends)))) @ sensor.rotation.T \
             + np.asarray(sensor.position)
+        observation = (ends_3d[:, :2], hits, sensor.position[:2])
         with self.lock:
-            self.controller.observe_scan(ends_3d[:, :2], hits, sensor.position[:2],
-                                         rospy.get_time(), scan.range_min)
+            if not self.params.lockstep:
+                self.controller.observe_scan(*observation, rospy.get_time(), scan.range_min)
+                return
+            self.frame_inputs.scan(observation + (scan.range_min,), scan.header.stamp.to_sec())
+            self.answer_frames()
 
     def camera_pose(self, frame_id):
         """The camera's floor pose in base_link, from TF once per frame, else from params."""
@@ -172,12 +190,23 @@ class CanStopperNode:
             if not self.params.lockstep:
                 self.controller.observe(sighting, rospy.get_time(), stamp_s)
                 return
-            if self.shutting_down:
-                return
-            # Lockstep: the image's sim time is now (the simulator waits for this answer).
-            self.controller.observe(sighting, stamp_s, stamp_s)
-            self.publish_command(self.controller.command(stamp_s), detection.header.stamp)
+            self.frame_inputs.detection(sighting, stamp_s)
+            self.answer_frames()
         self.publish_state()
+
+    def answer_frames(self):
+        """Lockstep (under the lock): feed the controller every input in stamp order and
+        answer each frame whose odometry and scan have arrived. The frame's sim time is the
+        controller's clock; the simulator waits for the answer."""
+        for kind, stamp_s, value in self.frame_inputs.ready():
+            if kind == 'pose':
+                self.controller.observe_pose(value, stamp_s)
+            elif kind == 'scan':
+                self.controller.observe_scan(*value[:3], stamp_s, value[3])
+            elif not self.shutting_down:
+                self.controller.observe(value, stamp_s, stamp_s)
+                self.publish_command(self.controller.command(stamp_s),
+                                     rospy.Time.from_sec(stamp_s))
 
     def publish_command(self, command, stamp):
         """``command`` (linear m/s, angular rad/s) on /cmd_vel and, stamped, on cmd_vel_stamped."""
@@ -241,6 +270,7 @@ class CanStopperNode:
     def on_reset(self, _request):
         with self.lock:
             self.controller.reset(rospy.get_time())
+            self.frame_inputs.clear()
         self.publish_state(force=True)
         return EmptyResponse()
 

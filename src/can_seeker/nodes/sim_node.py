@@ -337,7 +337,9 @@ class SimNode:
                 self._publish_image(result.image, stamp)
                 if self._gate is not None:
                     self._gate.hold(result.time_s, self._awaited_inputs())
-            if result.state_due:
+            if result.state_due or (self._gate is not None and result.image is not None):
+                # In lockstep every frame also has its state: a controller answers the frame
+                # once its odometry caught up with it.
                 self._publish_state(stamp, result.touched)
             if self._real_time_factor > 0.0:
                 lag_s = (time.monotonic() - wall_start_s

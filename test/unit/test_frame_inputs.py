@@ -1,0 +1,73 @@
+"""Lockstep inputs reach the controller in stamp order, whatever order they arrived in."""
+from can_seeker.control.frame_inputs import FrameInputs
+
+
+def live():
+    return True
+
+
+def dead():
+    return False
+
+
+def kinds(released):
+    return [(kind, stamp) for kind, stamp, _ in released]
+
+
+def test_detection_waits_for_odometry_and_scan_of_its_frame():
+    inputs = FrameInputs(live, live)
+    inputs.detection('d1', 1.0)
+    assert inputs.ready() == []
+    inputs.pose('p1', 1.0)
+    assert kinds(inputs.ready()) == [('pose', 1.0)]
+    inputs.scan('s1', 1.0)
+    assert kinds(inputs.ready()) == [('scan', 1.0), ('detection', 1.0)]
+
+
+def test_arrival_order_does_not_change_the_release_order():
+    orders = []
+    for arrival in (('scan', 'pose', 'detection'), ('detection', 'scan', 'pose'),
+                    ('pose', 'detection', 'scan')):
+        inputs = FrameInputs(live, live)
+        inputs.pose('p0', 0.98)
+        released = list(inputs.ready())
+        for kind in arrival:
+            getattr(inputs, kind)(kind, 1.0)
+            released += inputs.ready()
+        orders.append(kinds(released))
+    assert orders[0] == orders[1] == orders[2] == [
+        ('pose', 0.98), ('pose', 1.0), ('scan', 1.0), ('detection', 1.0)]
+
+
+def test_a_scan_is_applied_only_once_odometry_reached_it():
+    inputs = FrameInputs(live, live)
+    inputs.pose('p0', 0.9)
+    inputs.scan('s1', 1.0)
+    assert kinds(inputs.ready()) == [('pose', 0.9)]
+    inputs.pose('p1', 1.0)
+    assert kinds(inputs.ready()) == [('pose', 1.0), ('scan', 1.0)]
+
+
+def test_inputs_without_a_source_are_not_waited_for():
+    inputs = FrameInputs(live, dead)
+    inputs.pose('p1', 1.0)
+    inputs.detection('d1', 1.0)
+    assert kinds(inputs.ready()) == [('pose', 1.0), ('detection', 1.0)]
+    inputs = FrameInputs(dead, dead)
+    inputs.detection('d1', 1.0)
+    assert kinds(inputs.ready()) == [('detection', 1.0)]
+
+
+def test_a_missing_scan_is_made_up_by_the_next_one_and_clear_drops_all():
+    inputs = FrameInputs(live, live)
+    inputs.pose('p1', 1.0)
+    inputs.detection('d1', 1.0)
+    inputs.pose('p2', 1.1)
+    assert kinds(inputs.ready()) == [('pose', 1.0)]
+    inputs.scan('s2', 1.1)
+    assert kinds(inputs.ready()) == [('detection', 1.0), ('pose', 1.1), ('scan', 1.1)]
+    inputs.detection('d3', 1.2)
+    inputs.clear()
+    inputs.pose('p3', 1.2)
+    inputs.scan('s3', 1.2)
+    assert kinds(inputs.ready()) == [('pose', 1.2), ('scan', 1.2)]
