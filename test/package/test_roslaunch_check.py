@@ -31,7 +31,8 @@ def required_args(launch_file):
 
 def roslaunch_check(launch_file, result_path, args=(), env=None):
     """Run roslaunch-check on one file; returns (exit code, output)."""
-    command = [sys.executable, str(roslaunch_check_script()), '-o', str(result_path)]
+    command = ['nice', '-n', '10', sys.executable, str(roslaunch_check_script()),
+               '-o', str(result_path)]
     if launch_file.suffix == '.test':
         command.append('-t')
     command += [str(launch_file)] + list(args)

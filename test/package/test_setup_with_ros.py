@@ -49,7 +49,8 @@ def fake_ros(root, record):
 
 
 def run_setup(environment, home):
-    result = subprocess.run(['bash', str(REPO / 'tools' / 'setup.sh')], env=environment,
+    result = subprocess.run(['nice', '-n', '10', 'bash', str(REPO / 'tools' / 'setup.sh')],
+                            env=environment,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             universal_newlines=True, timeout=SETUP_TIMEOUT_S, check=False)
     log = (home / 'setup.log').read_text() if (home / 'setup.log').exists() else ''
