@@ -14,3 +14,9 @@ def test_run_case_counts_frames_and_time():
     assert abs(result['real_time_factor'] * result['wall_s'] - 0.5) < 1e-9
     assert result['step_us'] > 0.0
 
+
+
+def test_run_case_in_a_room_with_the_textured_can():
+    result = run_case(URDF, 'tiny', 64, 48, 15.0, 0.5, 'room', 'textured')
+    assert result['frames'] == 7
+    assert result['real_time_factor'] > 0.0

@@ -63,3 +63,31 @@ def test_coverage_map_is_drawn_under_the_path():
     assert tuple(image[row, column]) == COVERED
     column, row = view.to_px(-0.7, 0.7)
     assert tuple(image[row, column]) == (255, 255, 255)
+
+
+def test_walls_and_obstacles_are_drawn_in_their_colours_where_they_stand():
+    from can_seeker.evaluation.topdown import scene_points
+    from can_seeker.sim.scene import Scene, Solid, room_walls
+    crate = Solid('crate', 'box', 1.0, 1.0, 0.4, 0.2, 0.3, math.radians(90.0))
+    scene = Scene((-2.0, 2.0, -2.0, 2.0), room_walls(4.0, 4.0), (crate,),
+                  wall_rgba=(0.0, 0.0, 1.0, 1.0), obstacle_rgba=(0.0, 1.0, 0.0, 1.0))
+    points = scene_points(scene)
+    assert max(x for x, _ in points) == pytest.approx(2.1)
+    view = TopDownView.framing([(0.0, 0.0)] + points, 420, 0.0)
+    image = draw_topdown(view, [], (0.0, 0.0, 0.0), (-1.0, -1.0), 0.165, 0.033, scene=scene)
+    column, row = view.to_px(1.0, 1.15)
+    assert tuple(image[row, column]) == (0, 255, 0)
+    column, row = view.to_px(1.15, 1.0)
+    assert tuple(image[row, column]) != (0, 255, 0)
+    column, row = view.to_px(2.05, 0.0)
+    assert tuple(image[row, column]) == (255, 0, 0)
+    column, row = view.to_px(0.5, 0.5)
+    assert tuple(image[row, column]) != (255, 0, 0)
+
+
+def test_trajectory_plot_with_a_scene(tmp_path):
+    from can_seeker.sim.scene import Scene, room_walls
+    filename = str(tmp_path / 'room.png')
+    plot_trajectory(filename, [(0.0, 0.0), (1.0, 0.5)], (1.0, 0.5, 0.3), (1.5, 0.8), 0.165,
+                    0.033, 0.25, 'room', Scene((-2.0, 2.0, -2.0, 2.0), room_walls(4.0, 4.0)))
+    assert cv2.imread(filename).shape[:2] == (600, 600)

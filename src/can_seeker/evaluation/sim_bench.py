@@ -11,19 +11,24 @@ from types import SimpleNamespace
 from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_config
 from can_seeker.sim.world import World
 
-CASES = ((320, 240, 15.0, 3.0), (640, 480, 30.0, 1.0))
-"""(width px, height px, camera rate Hz, target real-time factor)."""
+CASES = ((320, 240, 15.0, 3.0, 'empty', 'plain'), (320, 240, 15.0, 3.0, 'empty', 'textured'),
+         (320, 240, 15.0, 3.0, 'room', 'textured'), (640, 480, 30.0, 1.0, 'empty', 'plain'),
+         (640, 480, 30.0, 1.0, 'room', 'textured'))
+"""(width px, height px, camera rate Hz, target real-time factor, world, can texture)."""
 
 
-def run_case(urdf_path, renderer, width, height, camera_rate_hz, duration_s):
-    """Run one camera configuration for ``duration_s`` of sim time; returns its measurements."""
+def run_case(urdf_path, renderer, width, height, camera_rate_hz, duration_s, world='empty',
+             can_texture='plain'):
+    """Run one camera configuration in ``world`` ('empty' or 'room', seed 0, lidar at its
+    default rate) for ``duration_s`` of sim time; returns its measurements."""
     defaults = {spec.name: spec.default for spec in PARAMS}
     defaults.update(width=width, height=height, camera_rate=camera_rate_hz, renderer=renderer,
-                    can_placement='fixed', can_x=1.0, can_y=0.2)
+                    can_placement='fixed', can_x=1.0, can_y=0.2, world=world,
+                    can_texture=can_texture)
     config = checked_config(SimpleNamespace(**defaults), print)
     with World(urdf_path, camera_spec(config), config.physics_rate, renderer,
-               can_rgba=config.can_color) as world:
-        world.place_can(*config.can_position)
+               can_rgba=config.can_color, scene=config.scene,
+               can_texture=config.can_texture) as world:
         simulation = Simulation.from_config(world, config)
         frame_walls_s, plain_walls_s = [], []
         start_s = time.perf_counter()

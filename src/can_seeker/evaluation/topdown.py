@@ -1,4 +1,4 @@
-"""Top-down pictures of a run in the odom frame: robot path, robot and can.
+"""Top-down pictures of a run in the odom frame: walls and obstacles, robot path, robot and can.
 
 :func:`draw_topdown` draws one OpenCV frame (BGR) for the demo video, :func:`plot_trajectory`
 writes the trajectory figure with matplotlib (Agg backend, headless). Map convention: odom x to
@@ -6,7 +6,7 @@ the right, y up, so a left turn (positive yaw, REP-103) turns counter-clockwise 
 """
 import math
 from dataclasses import dataclass
-from typing import Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import cv2
 import matplotlib
@@ -14,6 +14,8 @@ import numpy as np
 
 matplotlib.use('Agg')
 from matplotlib import patches, pyplot  # noqa: E402  (the backend must be chosen first)
+
+from can_seeker.sim.scene import Scene  # noqa: E402
 
 BACKGROUND = (255, 255, 255)
 GRID = (225, 225, 225)
@@ -24,6 +26,8 @@ CAN = (30, 30, 220)
 GRID_STEP_M = 0.5
 COVERED = (200, 235, 200)
 SENSED_OBSTACLE = (60, 60, 60)
+SOLID_OUTLINE = (0, 140, 255)
+"""Outline of the true walls and obstacles (orange), apart from the robot's sensed ones."""
 
 
 @dataclass(frozen=True)
@@ -101,16 +105,35 @@ def _draw_coverage(image: np.ndarray, view: TopDownView, coverage: CoverageMap):
     image[values >= 50] = SENSED_OBSTACLE
 
 
+def scene_points(scene: Optional[Scene]) -> List[Tuple[float, float]]:
+    """Floor points (m) a view must hold to show every wall and obstacle of ``scene``."""
+    if scene is None:
+        return []
+    return [tuple(point) for solid in scene.solids for point in solid.footprint()]
+
+
+def _draw_solids(image: np.ndarray, view: TopDownView, scene: Scene):
+    """Walls and obstacles as filled footprints in their own colours, outlined."""
+    for solid in scene.solids:
+        polygon = np.array([view.to_px(x, y) for x, y in solid.footprint()], np.int32)
+        red, green, blue = (int(round(255 * channel)) for channel in scene.colour_of(solid)[:3])
+        cv2.fillPoly(image, [polygon], (blue, green, red), cv2.LINE_AA)
+        cv2.polylines(image, [polygon], True, SOLID_OUTLINE, 1, cv2.LINE_AA)
+
+
 def draw_topdown(view: TopDownView, path: Sequence[Sequence[float]],
                  robot_pose: Sequence[float], can_xy: Sequence[float], robot_radius_m: float,
                  can_radius_m: float, caption: str = '',
-                 coverage: Optional[CoverageMap] = None) -> np.ndarray:
-    """A BGR frame: the robot's coverage map when given, grid every 0.5 m, the path so far,
-    the robot (x, y, yaw) and the can."""
+                 coverage: Optional[CoverageMap] = None,
+                 scene: Optional[Scene] = None) -> np.ndarray:
+    """A BGR frame: the robot's coverage map when given, grid every 0.5 m, the scene's walls
+    and obstacles when given, the path so far, the robot (x, y, yaw) and the can."""
     image = np.full((view.size_px, view.size_px, 3), BACKGROUND, np.uint8)
     if coverage is not None:
         _draw_coverage(image, view, coverage)
     _draw_grid(image, view)
+    if scene is not None:
+        _draw_solids(image, view, scene)
     if len(path) > 1:
         points = np.array([view.to_px(x, y) for x, y in path], np.int32)
         cv2.polylines(image, [points], False, PATH, 2, cv2.LINE_AA)
@@ -137,10 +160,15 @@ def side_by_side(left: np.ndarray, right: np.ndarray) -> np.ndarray:
 
 def plot_trajectory(filename: str, path: Sequence[Sequence[float]],
                     final_pose: Sequence[float], can_xy: Sequence[float], robot_radius_m: float,
-                    can_radius_m: float, stop_distance_m: float, title: str):
-    """Write the trajectory figure: path, start and final robot outline, the can and the
-    circle on which the robot's centre should stop."""
+                    can_radius_m: float, stop_distance_m: float, title: str,
+                    scene: Optional[Scene] = None):
+    """Write the trajectory figure: walls and obstacles of ``scene`` when given, path, start
+    and final robot outline, the can and the circle on which the robot's centre should stop."""
     figure, axes = pyplot.subplots(figsize=(6.0, 6.0), dpi=100)
+    for solid in (scene.solids if scene is not None else ()):
+        axes.add_patch(patches.Polygon(solid.footprint(), closed=True,
+                                       facecolor=scene.colour_of(solid)[:3],
+                                       edgecolor='dimgrey', linewidth=0.8))
     xs = [point[0] for point in path]
     ys = [point[1] for point in path]
     axes.plot(xs, ys, '-', color='tab:blue', label='base_link path')

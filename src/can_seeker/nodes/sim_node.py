@@ -90,7 +90,7 @@ class SimNode:
                 config.gui = False
         spec = camera_spec(config)
         world = World(package_urdf_path(), spec, config.physics_rate, config.renderer, config.gui,
-                      config.can_color, config.scene)
+                      config.can_color, config.scene, config.can_texture)
         rospy.loginfo('sim: %s world with %d walls and %d obstacles; rendering %dx%d at %.1f Hz '
                       'with %s; can at (%.3f, %.3f)', config.world, len(config.scene.walls),
                       len(config.scene.obstacles), config.width, config.height,

@@ -24,7 +24,7 @@ from can_seeker.sim.scene import (CAN_CLEARANCE_M, CAN_RADIUS_M, OBSTACLE_RGBA, 
                                   WALL_RGBA, Scene, can_visible, empty_bounds,
                                   random_can_position, random_free_can_position,
                                   random_obstacles, room_walls, scene_from_dict)
-from can_seeker.sim.world import CAN_RGBA, RENDERERS, CameraSpec, World
+from can_seeker.sim.world import CAN_RGBA, CAN_TEXTURES, RENDERERS, CameraSpec, World
 
 
 def _rgba_text(rgba: Sequence[float]) -> str:
@@ -95,6 +95,9 @@ PARAMS = (
     Param('can_max_distance', 3.0, 'farthest random can centre from the robot start (m)',
           0.3, 50.0),
     Param('can_rgba', DEFAULT_CAN_RGBA, 'can colour: red green blue alpha, four numbers in 0-1'),
+    Param('can_texture', 'textured', 'textured: a soda can with a label (body in ~can_rgba, a '
+          'band of white lettering-like marks, silver lid and base); plain: one colour all over',
+          choices=CAN_TEXTURES),
     Param('lockstep', False, 'after each camera frame, step no further until every '
           '~lockstep_topics topic and the stamped command (cmd_vel_stamped) answered it with a '
           'message stamped at or after the frame (or ~lockstep_timeout passed); the base then '

@@ -9,9 +9,12 @@ thread-safe.
 """
 import importlib.util
 import os
+import shutil
+import tempfile
 from dataclasses import dataclass
 from typing import FrozenSet, Optional, Sequence, Tuple
 
+import cv2
 import numpy as np
 import pybullet
 import pybullet_data
@@ -21,6 +24,7 @@ from pybullet_utils.bullet_client import BulletClient
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_matrix, \
     yaw_from_quaternion
 from can_seeker.camera_mount import CameraMount
+from can_seeker.sim import can_texture
 from can_seeker.sim.drive import wheel_speeds
 from can_seeker.sim.lidar import LidarSpec
 from can_seeker.sim.scene import (CAN_HEIGHT_M, CAN_MASS_KG, CAN_RADIUS_M, EMPTY_FLOOR_HALF_SIDE_M,
@@ -39,6 +43,8 @@ CONTACT_TOLERANCE_M = 0.001
 """Contact points farther apart than this (m) are a near miss, not a touch."""
 
 RENDERERS = ('auto', 'egl', 'tiny')
+CAN_TEXTURES = ('textured', 'plain')
+"""textured: red body, white lettering band, silver lid and base; plain: one colour."""
 
 
 def package_urdf_path() -> str:
@@ -99,15 +105,22 @@ class World:
 
     ``renderer`` is 'auto' (EGL, TinyRenderer fallback), 'egl' (RuntimeError if unusable) or
     'tiny'. ``gui`` opens the pybullet GUI (needs a display); it renders with its own OpenGL.
-    Without a scene the world is the empty floor with the can 1 m ahead.
+    Without a scene the world is the empty floor with the can 1 m ahead. ``can_texture`` is one
+    of CAN_TEXTURES.
     """
 
     def __init__(self, urdf_path: str, camera: CameraSpec, physics_rate_hz: float = 240.0,
                  renderer: str = 'auto', gui: bool = False,
-                 can_rgba: Sequence[float] = CAN_RGBA, scene: Optional[Scene] = None):
+                 can_rgba: Sequence[float] = CAN_RGBA, scene: Optional[Scene] = None,
+                 can_texture: str = 'plain'):
         if renderer not in RENDERERS:
             raise ValueError('renderer must be one of %s, got %r'
                              % (', '.join(RENDERERS), renderer))
+        if can_texture not in CAN_TEXTURES:
+            raise ValueError('can_texture must be one of %s, got %r'
+                             % (', '.join(CAN_TEXTURES), can_texture))
+        self._texture_dir = tempfile.mkdtemp(prefix='can_seeker_can_') if (
+            can_texture == 'textured') else None
         self.camera = camera
         self.dt_s = 1.0 / physics_rate_hz
         self._client = BulletClient(connection_mode=pybullet.GUI if gui else pybullet.DIRECT)
@@ -216,17 +229,38 @@ class World:
         client = self._client
         collision = client.createCollisionShape(pybullet.GEOM_CYLINDER, radius=CAN_RADIUS_M,
                                                 height=CAN_HEIGHT_M)
-        visual = client.createVisualShape(pybullet.GEOM_CYLINDER, radius=CAN_RADIUS_M,
-                                          length=CAN_HEIGHT_M, rgbaColor=list(rgba))
+        if self._texture_dir is None:
+            visual = client.createVisualShape(pybullet.GEOM_CYLINDER, radius=CAN_RADIUS_M,
+                                              length=CAN_HEIGHT_M, rgbaColor=list(rgba))
+        else:
+            mesh_path = os.path.join(self._texture_dir, 'can.obj')
+            with open(mesh_path, 'w') as mesh:
+                mesh.write(can_texture.mesh_obj(CAN_RADIUS_M, CAN_HEIGHT_M))
+            visual = client.createVisualShape(pybullet.GEOM_MESH, fileName=mesh_path,
+                                              rgbaColor=[1.0, 1.0, 1.0, 1.0])
         can = client.createMultiBody(baseMass=CAN_MASS_KG, baseCollisionShapeIndex=collision,
                                      baseVisualShapeIndex=visual,
                                      basePosition=(0.0, 0.0, CAN_HEIGHT_M / 2.0))
         client.changeDynamics(can, -1, lateralFriction=CAN_LATERAL_FRICTION)
+        if self._texture_dir is not None:
+            self._paint_label(can, rgba)
         return can
 
+    def _paint_label(self, can: int, rgba: Sequence[float]):
+        """Give the textured can a label whose body has the colour ``rgba``."""
+        body_rgb = [int(round(255 * channel)) for channel in rgba[:3]]
+        label_path = os.path.join(self._texture_dir, 'label_%02x%02x%02x.png' % tuple(body_rgb))
+        cv2.imwrite(label_path, cv2.cvtColor(can_texture.label_image(body_rgb),
+                                             cv2.COLOR_RGB2BGR))
+        self._client.changeVisualShape(can, -1,
+                                       textureUniqueId=self._client.loadTexture(label_path))
+
     def set_can_color(self, rgba: Sequence[float]):
-        """Repaint the can (red, green, blue, alpha in 0-1)."""
-        self._client.changeVisualShape(self._can, -1, rgbaColor=list(rgba))
+        """Repaint the can (red, green, blue, alpha in 0-1): the body of a textured can."""
+        if self._texture_dir is not None:
+            self._paint_label(self._can, rgba)
+        else:
+            self._client.changeVisualShape(self._can, -1, rgbaColor=list(rgba))
 
     def reset_robot(self):
         """Put the robot at the world origin facing +x, at rest, wheels stopped."""
@@ -349,6 +383,9 @@ class World:
 
     def close(self):
         """Disconnect from pybullet (the world is unusable afterwards)."""
+        if self._texture_dir is not None:
+            shutil.rmtree(self._texture_dir, ignore_errors=True)
+            self._texture_dir = None
         if self._client is not None:
             if self._egl_plugin >= 0:
                 self._client.unloadPlugin(self._egl_plugin)

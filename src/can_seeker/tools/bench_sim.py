@@ -50,11 +50,13 @@ class NodeProbe:
             return self.last_frame, self.frames
 
 
-def measure_node(probe, renderer, width, height, camera_rate_hz, duration_s, log):
+def measure_node(probe, renderer, width, height, camera_rate_hz, duration_s, log,
+                 world='empty', can_texture='plain'):
     """Launch sim.launch as fast as possible; (real-time factor, frames received per sim s)."""
     command = ['roslaunch', 'can_seeker', 'sim.launch', 'real_time_factor:=0',
                'renderer:=%s' % renderer, 'width:=%d' % width, 'height:=%d' % height,
-               'camera_rate:=%g' % camera_rate_hz]
+               'camera_rate:=%g' % camera_rate_hz, 'world:=%s' % world,
+               'can_texture:=%s' % can_texture]
     probe.forget()
     launch = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT,
                               start_new_session=True)
@@ -85,14 +87,15 @@ def main(argv=None):
     args = parser.parse_args(argv)
     print('simulator benchmark: physics at 240 Hz, %d cores, %.0f s per case'
           % (os.cpu_count(), args.duration))
-    print('| run | camera | renderer | real-time factor | target | render + convert (ms/frame) '
-          '| physics (us/step) |')
-    print('|---|---|---|---|---|---|---|')
-    for width, height, rate_hz, target in CASES:
+    print('| run | camera | world, can | renderer | real-time factor | target | '
+          'render + convert (ms/frame) | physics + lidar (us/step) |')
+    print('|---|---|---|---|---|---|---|---|')
+    for width, height, rate_hz, target, world, texture in CASES:
         result = run_case(package_urdf_path(), args.renderer, width, height, rate_hz,
-                          args.duration)
-        print('| world | %dx%d @ %g Hz | %s | %.2fx | >= %gx (%s) | %.1f | %.0f |'
-              % (width, height, rate_hz, result['renderer'], result['real_time_factor'], target,
+                          args.duration, world, texture)
+        print('| world | %dx%d @ %g Hz | %s, %s | %s | %.2fx | >= %gx (%s) | %.1f | %.0f |'
+              % (width, height, rate_hz, world, texture, result['renderer'],
+                 result['real_time_factor'], target,
                  'met' if result['real_time_factor'] >= target else 'MISSED',
                  result['frame_ms'], result['step_us']))
     if args.no_node:
@@ -111,12 +114,14 @@ def main(argv=None):
                 time.sleep(0.1)
             rospy.init_node('bench_sim', anonymous=True, disable_signals=True)
             probe = NodeProbe()
-            for width, height, rate_hz, target in CASES:
+            for width, height, rate_hz, target, world, texture in CASES:
                 factor, frames_per_s = measure_node(probe, args.renderer, width, height,
-                                                    rate_hz, args.duration, log)
-                print('| node | %dx%d @ %g Hz | %s | %.2fx | >= %gx (%s) | %.1f frames/s '
-                      'received | |' % (width, height, rate_hz, args.renderer, factor, target,
-                                        'met' if factor >= target else 'MISSED', frames_per_s))
+                                                    rate_hz, args.duration, log, world, texture)
+                print('| node | %dx%d @ %g Hz | %s, %s | %s | %.2fx | >= %gx (%s) | %.1f '
+                      'frames/s received | |' % (width, height, rate_hz, world, texture,
+                                                 args.renderer, factor, target,
+                                                 'met' if factor >= target else 'MISSED',
+                                                 frames_per_s))
         finally:
             rospy.signal_shutdown('benchmark done')
             os.killpg(master.pid, signal.SIGINT)

@@ -16,14 +16,18 @@ import threading
 import cv2
 import numpy as np
 import rospy
+import yaml
 from cv_bridge import CvBridge, CvBridgeError
 from nav_msgs.msg import OccupancyGrid
 from sensor_msgs.msg import Image
+from std_msgs.msg import String
 
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
-from can_seeker.sim.simulation import PARAMS as SIM_PARAMS, random_can_position
-from can_seeker.evaluation.topdown import (CoverageMap, TopDownView, draw_topdown,
+from can_seeker.sim.scene import scene_from_dict
+from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
+from can_seeker.sim.world import CAN_TEXTURES
+from can_seeker.evaluation.topdown import (CoverageMap, TopDownView, draw_topdown, scene_points,
                                            plot_trajectory, side_by_side)
 from can_seeker.evaluation.trials import Criteria
 from can_seeker.evaluation.video import Mp4Writer
@@ -43,6 +47,11 @@ def parse_args(argv):
                         help='nearest can centre from the robot start (m)')
     parser.add_argument('--max-distance', type=float, default=SIM.can_max_distance,
                         help='farthest can centre from the robot start (m)')
+    parser.add_argument('--world', default=SIM.world,
+                        help='empty, room or a YAML world file (a path or a name in worlds/); '
+                        'rooms and the can are drawn from the seed')
+    parser.add_argument('--can-texture', default=SIM.can_texture, choices=CAN_TEXTURES,
+                        help='textured soda can or plain red')
     parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=1.0,
@@ -55,8 +64,9 @@ class VideoRecorder:
     moment (with can_stopper's map of covered floor and sensed obstacles), into an MP4 at the
     camera rate."""
 
-    def __init__(self, filename, fps, monitor, view, criteria):
+    def __init__(self, filename, fps, monitor, view, criteria, scene):
         self.writer = Mp4Writer(filename, fps)
+        self.scene = scene
         self.monitor = monitor
         self.view = view
         self.criteria = criteria
@@ -88,7 +98,7 @@ class VideoRecorder:
         caption = 't %.1f s  %s' % (message.header.stamp.to_sec() - self.monitor.start_s,
                                     self.monitor.state or '')
         top = draw_topdown(self.view, path, pose, can_xy, self.criteria.robot_radius_m,
-                           self.criteria.can_radius_m, caption, self.coverage)
+                           self.criteria.can_radius_m, caption, self.coverage, self.scene)
         with self.lock:
             if not self.closed:
                 self.writer.write(side_by_side(camera, top))
@@ -112,33 +122,45 @@ def run(args):
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(2 ** 31)
     print('demo: seed %d (repeat with --seed %d, or make demo SEED=%d)' % (seed, seed, seed))
     os.makedirs(args.output, exist_ok=True)
-    can_xy = random_can_position(seed, args.min_distance, args.max_distance)
-    launch = {'can_placement': 'fixed', 'can_x': can_xy[0], 'can_y': can_xy[1],
-              'real_time_factor': args.real_time_factor}
+    world = args.world
+    if world not in ('empty', 'room') and os.path.exists(world):
+        world = os.path.abspath(world)
+    launch = {'can_placement': 'random', 'seed': seed, 'world': world,
+              'can_min_distance': args.min_distance, 'can_max_distance': args.max_distance,
+              'can_texture': args.can_texture, 'real_time_factor': args.real_time_factor}
     with LaunchedSystem(launch, os.path.join(args.output, 'roslaunch.log')) as system:
         rospy.init_node('demo', disable_signals=True)
         system.wait_for_services()
         criteria = Criteria(stop_distance_m=rospy.get_param('/can_stopper/stop_distance'),
                             time_limit_s=args.time_limit)
         runner = TrialRunner(criteria)
-        view = TopDownView.framing([(0.0, 0.0), can_xy], VIDEO_HEIGHT_PX, VIEW_MARGIN_M)
+        can_xy, visible = runner.new_world(seed)
+        scene = scene_from_dict(yaml.safe_load(
+            rospy.wait_for_message('/sim/world', String, timeout=30.0).data))
+        print('demo: %s world, %d obstacles; the can at (%.2f, %.2f) is %s from the start'
+              % (args.world, len(scene.obstacles), can_xy[0], can_xy[1],
+                 'in view' if visible else 'not in view'))
+        view = TopDownView.framing([(0.0, 0.0), can_xy] + scene_points(scene), VIDEO_HEIGHT_PX,
+                                   VIEW_MARGIN_M)
         recorder = VideoRecorder(os.path.join(args.output, 'demo.mp4'),
                                  rospy.get_param('/sim/camera_rate'), runner.monitor, view,
-                                 criteria)
-        result = runner.run(0, can_xy)
+                                 criteria, scene)
+        result = runner.run(0, can_xy, visible)
         video_ok = recorder.close()
         pose, final_can, _, path, _ = runner.monitor.snapshot()
         rospy.signal_shutdown('demo done')
     plot_trajectory(os.path.join(args.output, 'trajectory.png'), path, pose, final_can,
                     criteria.robot_radius_m, criteria.can_radius_m, criteria.stop_distance_m,
                     'seed %d: gap %.3f m (target %.2f), bearing %.1f deg'
-                    % (seed, result.gap_m, criteria.stop_distance_m, result.bearing_deg))
+                    % (seed, result.gap_m, criteria.stop_distance_m, result.bearing_deg), scene)
     summary = {'seed': seed, 'can_x_m': can_xy[0], 'can_y_m': can_xy[1],
                'stopped': result.stopped, 'time_to_stop_s': result.time_to_stop_s,
                'final_gap_m': result.gap_m, 'target_gap_m': criteria.stop_distance_m,
                'gap_error_m': result.gap_m - criteria.stop_distance_m,
                'bearing_deg': result.bearing_deg, 'path_length_m': result.path_length_m,
-               'contact': result.contact, 'success': result.success,
+               'contact': result.contact, 'contact_objects': result.contact_objects,
+               'can_visible_from_start': visible, 'world': args.world,
+               'success': result.success,
                'video_frames': recorder.writer.frames if video_ok else 0}
     with open(os.path.join(args.output, 'summary.json'), 'w') as output:
         json.dump(summary, output, indent=2)
@@ -148,7 +170,8 @@ def run(args):
           'bearing %+.2f deg, time to stop %s (sim), path %.2f m, contact %s -> %s'
           % (can_xy[0], can_xy[1], result.gap_m, criteria.stop_distance_m,
              1000.0 * summary['gap_error_m'], result.bearing_deg, time_text,
-             result.path_length_m, 'yes' if result.contact else 'no',
+             result.path_length_m,
+             (', '.join(result.contact_objects) or 'yes') if result.contact else 'no',
              'SUCCESS' if result.success else 'FAILED'))
     print('demo: wrote %s/demo.mp4 (%d frames), trajectory.png, summary.json'
           % (args.output, summary['video_frames']))

@@ -28,13 +28,15 @@ from tqdm import tqdm
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
 from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
+from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
                                          compare_runs, merge_records, parse_shard,
                                          shard_indices)
 from can_seeker.evaluation.trials import Criteria, summarise, summary_table
 
 SIM = defaults(SIM_PARAMS)
-WORLD_OPTIONS = ('world', 'obstacles', 'room_size', 'floor_rgba', 'wall_rgba', 'obstacle_rgba')
+WORLD_OPTIONS = ('world', 'obstacles', 'room_size', 'floor_rgba', 'wall_rgba', 'obstacle_rgba',
+                 'can_texture')
 
 
 def parse_args(argv):
@@ -55,6 +57,8 @@ def parse_args(argv):
                         help='camera pitch below the horizon (deg)')
     parser.add_argument('--can-rgba', default=SIM.can_rgba,
                         help='can colour: red green blue alpha in 0-1')
+    parser.add_argument('--can-texture', default=SIM.can_texture, choices=CAN_TEXTURES,
+                        help='textured soda can or plain red')
     parser.add_argument('--world', default=SIM.world,
                         help='empty, room or a YAML world file (a path or a name in worlds/)')
     parser.add_argument('--obstacles', type=int, default=SIM.obstacles,
@@ -123,6 +127,7 @@ def launch_args(args):
             'world': world, 'obstacles': args.obstacles, 'room_length': room_length,
             'room_width': room_width, 'floor_rgba': args.floor_rgba,
             'wall_rgba': args.wall_rgba, 'obstacle_rgba': args.obstacle_rgba,
+            'can_texture': args.can_texture,
             'lockstep': str(args.lockstep).lower()}
 
 
@@ -268,10 +273,11 @@ def main():
         sys.exit(130)
     summary = summarise(results, criteria)
     print('\nevaluate: %d trials, %s world, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, '
-          'can %s' % (len(results), _world_text(record_settings),
+          'can %s %s' % (len(results), _world_text(record_settings),
                       record_settings['min_distance'], record_settings['max_distance'],
                       record_settings['width'], record_settings['height'],
                       record_settings['camera_height'], record_settings['camera_pitch'],
+                      record_settings.get('can_texture', 'plain'),
                       record_settings['can_rgba']))
     print(summary_table(summary))
     if args.json:

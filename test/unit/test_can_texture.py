@@ -1,0 +1,68 @@
+"""The textured soda can: its label image, its mesh, and how it renders."""
+import pathlib
+
+import numpy as np
+import pytest
+
+from can_seeker.camera_mount import CameraMount
+from can_seeker.sim.can_texture import (BASE_FRACTION, LETTERING_BOTTOM_FRACTION,
+                                        LETTERING_TOP_FRACTION, LID_FRACTION, SILVER_RGB,
+                                        label_image, mesh_obj)
+from can_seeker.sim.world import CameraSpec, World
+
+URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
+RED = (204, 13, 13)
+
+
+def test_label_has_silver_rims_a_lettering_band_and_a_red_body():
+    label = label_image(RED, 512, 256).astype(int)
+    assert label.shape == (256, 512, 3)
+    assert np.all(label[1, :] >= 150) and np.all(np.abs(label[-1, :] - SILVER_RGB) <= 1)
+    assert int(LID_FRACTION * 256) > 10 and int(BASE_FRACTION * 256) >= 10
+    band = label[int(LETTERING_TOP_FRACTION * 256):int(LETTERING_BOTTOM_FRACTION * 256)]
+    white = np.all(band > 200, axis=2)
+    assert 0.1 < white.mean() < 0.5
+    red_columns = np.all(band == RED, axis=2).all(axis=0)
+    assert red_columns.mean() > 0.2, 'letters need body colour between them'
+    body = label[int(0.7 * 256):int(0.9 * 256)]
+    assert np.all(body == RED)
+
+
+def test_mesh_is_a_closed_cylinder_of_the_can():
+    text = mesh_obj(0.033, 0.122, segments=16)
+    vertices = np.array([[float(v) for v in line.split()[1:]]
+                         for line in text.splitlines() if line.startswith('v ')])
+    faces = [line for line in text.splitlines() if line.startswith('f ')]
+    assert len(faces) == 4 * 16
+    radii = np.hypot(vertices[:, 0], vertices[:, 1])
+    assert radii.max() == pytest.approx(0.033, abs=1e-5)
+    assert vertices[:, 2].min() == pytest.approx(-0.061)
+    assert vertices[:, 2].max() == pytest.approx(0.061)
+    coordinates = [tuple(map(float, line.split()[1:])) for line in text.splitlines()
+                   if line.startswith('vt ')]
+    assert all(0.0 <= u <= 1.0 and 0.0 <= v <= 1.0 for u, v in coordinates)
+
+
+def test_the_textured_can_renders_red_white_and_silver():
+    camera = CameraSpec(160, 120, 45.0, CameraMount(0.25, 25.0))
+    with World(URDF, camera, renderer='tiny', can_texture='textured') as world:
+        world.place_can(0.5, 0.0)
+        world.step()
+        bgr = world.render('bgr8').astype(int)
+        blue, green, red = bgr[:, :, 0], bgr[:, :, 1], bgr[:, :, 2]
+        reddish = (red > 60) & (red > 2 * green) & (red > 2 * blue)
+        greyish = (np.abs(red - blue) < 20) & (np.abs(red - green) < 20) & (red > 120)
+        rows, columns = np.nonzero(reddish)
+        assert rows.size > 100
+        can_box = greyish[rows.min() - 8:rows.max() + 4, columns.min():columns.max() + 1]
+        assert can_box.sum() > 20
+        world.set_can_color((0.05, 0.7, 0.05, 1.0))
+        world.step()
+        bgr = world.render('bgr8').astype(int)
+        assert not ((bgr[:, :, 2] > 60) & (bgr[:, :, 2] > 2 * bgr[:, :, 1])).any()
+
+
+def test_an_unknown_texture_is_refused():
+    with pytest.raises(ValueError, match='can_texture'):
+        World(URDF, CameraSpec(32, 24, 45.0, CameraMount(0.25, 25.0)), renderer='tiny',
+              can_texture='chrome')
