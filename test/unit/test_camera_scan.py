@@ -224,3 +224,17 @@ def test_floor_hidden_behind_the_can_is_not_measured():
     clear[40:80, :] = (40, 40, 40)                      # floor seen between can and wall
     ranges = CameraScanner().scan(clear, POSE, INTRINSICS).ranges
     assert not np.isnan(ranges).any() and np.isfinite(ranges[hidden]).all()
+
+
+def test_rendered_textured_can_is_never_an_obstacle():
+    """The simulator's soda can (silver lid and base, white lettering band) at 0.45-3 m, ahead
+    and to the sides: no obstacle bin anywhere. Up to 1.5 m the floor is seen over it; at 3 m
+    the ray over its lid meets the floor beyond max_range, so what lies behind it is NaN."""
+    with World(URDF, CameraSpec(WIDTH, HEIGHT, 45.0, MOUNT), can_texture='textured') as world:
+        scanner = CameraScanner()
+        for distance in (0.45, 0.8, 1.5, 3.0):
+            for bearing in (-0.3, 0.0, 0.3):
+                world.place_can(distance * math.cos(bearing), distance * math.sin(bearing))
+                ranges = scanner.scan(world.render(), POSE, INTRINSICS).ranges
+                assert not np.isfinite(ranges).any(), (distance, bearing)
+                assert np.isnan(ranges).any() == (distance > 2.0), (distance, bearing)
