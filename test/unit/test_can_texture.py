@@ -66,3 +66,34 @@ def test_an_unknown_texture_is_refused():
     with pytest.raises(ValueError, match='can_texture'):
         World(URDF, CameraSpec(32, 24, 45.0, CameraMount(0.25, 25.0)), renderer='tiny',
               can_texture='chrome')
+
+
+def range_errors(texture):
+    """Relative range errors of the detector's floor-ray range to the can's near surface at
+    0.3-3 m and three bearings, rendered with TinyRenderer (None where the can was missed)."""
+    from can_seeker.vision.detector import RedCanDetector
+    from can_seeker.vision.report import can_report, fallback_pose
+    camera = CameraSpec(320, 240, 45.0, CameraMount(0.25, 25.0))
+    pose, detector = fallback_pose(0.25, 25.0), RedCanDetector()
+    errors = []
+    with World(URDF, camera, renderer='tiny', can_texture=texture) as world:
+        for range_m in (0.3, 0.5, 0.8, 1.2, 1.8, 2.4, 3.0):
+            for bearing in (-0.2, 0.0, 0.2):
+                centre_m = range_m + 0.033
+                world.place_can(0.12 + centre_m * np.cos(bearing), centre_m * np.sin(bearing))
+                world.step()
+                blob = detector.detect(world.render('bgr8')).blob
+                report = can_report(blob, 320, 240, pose, camera.intrinsics, 0.066)
+                errors.append((report.range_m - range_m) / range_m if blob else None)
+    return errors
+
+
+def test_the_detector_finds_and_ranges_the_textured_can_like_the_plain_one():
+    """Found at 0.3-3 m; the range reads long by the silver base (its top 5 mm above the floor:
+    +2 % with the camera 0.25 m up), within a pixel row (up to 4 % at 3 m) of that beyond 0.8 m,
+    compared with the plain can's range."""
+    plain, textured = range_errors('plain'), range_errors('textured')
+    assert None not in plain and None not in textured
+    bias = np.subtract(textured, plain).reshape(7, 3)
+    assert np.all((bias[:3] > 0.01) & (bias[:3] < 0.03)), np.round(bias, 3)
+    assert np.all((bias[3:] > -0.005) & (bias[3:] < 0.045)), np.round(bias, 3)
