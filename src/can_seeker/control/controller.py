@@ -120,8 +120,9 @@ PARAMS = (
           'radian of turning is worth (m/rad)', 0.0, 10.0),
     Param('replan_period', 1.0, 'paths and exploration goals are planned again this often (s)',
           0.1, 10.0),
-    Param('can_exclusion_radius', 0.15, 'range returns within this of the target can\'s '
-          'estimated centre are the can, not an obstacle (m)', 0.0, 1.0),
+    Param('can_exclusion_radius', 0.25, 'range returns within this of the target can\'s '
+          'estimated centre are the can (or its shadow), not an obstacle; below stop_distance '
+          '+ can_radius, the direct approach never brings the robot to them (m)', 0.0, 1.0),
     Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
           'ahead (m)', 0.05, 5.0),
 )

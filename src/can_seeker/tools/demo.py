@@ -1,10 +1,11 @@
-"""demo: one headless closed-loop run with the can at a random pose, recorded.
+"""demo: one headless closed-loop run in a room with the can at a random pose, recorded.
 
-Starts the simulator, image_converter and can_stopper under their own master (demo.launch on a
-free port), stands the can at a random bearing and distance from ``--seed`` (printed; pass it
-again to repeat the run), waits until the robot has stopped or the time limit, then writes to
-``--output``: ``demo.mp4`` (annotated camera next to a top-down view of the path and the can),
-``trajectory.png`` and ``summary.json``, and prints the summary. Times are sim time.
+Starts the simulator, image_converter, obstacle_scan and can_stopper under their own master
+(demo.launch on a free port), builds the world of ``--seed`` (printed; pass it again to repeat
+the run: by default a room with obstacles and the can anywhere in it), waits until the robot has
+stopped or the time limit, then writes to ``--output``: ``demo.mp4`` (annotated camera next to a
+top-down view of the room, the floor covered so far, the path and the can), ``trajectory.png``
+and ``summary.json``, and prints the summary. Times are sim time.
 """
 import argparse
 import json
@@ -33,6 +34,8 @@ from can_seeker.evaluation.trials import Criteria
 from can_seeker.evaluation.video import Mp4Writer
 
 VIDEO_HEIGHT_PX = 480
+DEMO_WORLD = 'room'
+"""The demo shows the whole behaviour: a room with obstacles, the can anywhere in it."""
 VIEW_MARGIN_M = 0.6
 SIM = defaults(SIM_PARAMS)
 
@@ -47,7 +50,7 @@ def parse_args(argv):
                         help='nearest can centre from the robot start (m)')
     parser.add_argument('--max-distance', type=float, default=SIM.can_max_distance,
                         help='farthest can centre from the robot start (m)')
-    parser.add_argument('--world', default=SIM.world,
+    parser.add_argument('--world', default=DEMO_WORLD,
                         help='empty, room or a YAML world file (a path or a name in worlds/); '
                         'rooms and the can are drawn from the seed')
     parser.add_argument('--can-texture', default=SIM.can_texture, choices=CAN_TEXTURES,
