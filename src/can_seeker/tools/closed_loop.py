@@ -218,6 +218,7 @@ class TrialRunner:
     def new_world(self, seed):
         """Rebuild the simulator's world from ``seed`` (paused; :meth:`run` starts the trial);
         ((can x, can y) in odom (m), whether the start camera sees the can)."""
+        self.monitor.wait_until_live(LIVE_TIMEOUT_S)
         self.pause()
         response = self.new_world_service(seed)
         if not response.success:
