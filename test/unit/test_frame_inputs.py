@@ -58,16 +58,24 @@ def test_inputs_without_a_source_are_not_waited_for():
     assert kinds(inputs.ready()) == [('detection', 1.0)]
 
 
-def test_a_missing_scan_is_made_up_by_the_next_one_and_clear_drops_all():
+def test_a_late_scan_releases_the_frame_and_clear_drops_all():
     inputs = FrameInputs(live, live)
     inputs.pose('p1', 1.0)
     inputs.detection('d1', 1.0)
-    inputs.pose('p2', 1.1)
     assert kinds(inputs.ready()) == [('pose', 1.0)]
     inputs.scan('s2', 1.1)
-    assert kinds(inputs.ready()) == [('detection', 1.0), ('pose', 1.1), ('scan', 1.1)]
+    assert kinds(inputs.ready()) == [('detection', 1.0)]
     inputs.detection('d3', 1.2)
     inputs.clear()
     inputs.pose('p3', 1.2)
     inputs.scan('s3', 1.2)
     assert kinds(inputs.ready()) == [('pose', 1.2), ('scan', 1.2)]
+
+
+def test_a_frame_whose_scan_never_comes_is_answered_once_the_simulator_stepped_on():
+    inputs = FrameInputs(live, live)
+    inputs.pose('p1', 1.0)
+    inputs.detection('d1', 1.0)
+    assert kinds(inputs.ready()) == [('pose', 1.0)]
+    inputs.pose('p2', 1.02)
+    assert kinds(inputs.ready()) == [('detection', 1.0), ('pose', 1.02)]

@@ -4,7 +4,8 @@ In lockstep the simulator waits for the controller's answer to each camera frame
 must depend only on the frame's sim time, never on which message a busy machine happened to
 deliver first: a scan is applied once the odometry has reached its stamp (it is placed at the
 pose it was taken from), and a detection is answered once the odometry and, while a scan source
-is live, the scan have reached its stamp. Everything is released in stamp order.
+is live, the scan have reached its stamp (or once odometry after the frame shows that the
+simulator has stopped waiting for it). Everything is released in stamp order.
 """
 from typing import Any, Callable, List, Tuple
 
@@ -54,7 +55,11 @@ class FrameInputs:
             return True
         if not self._reached('pose', stamp_s, self._pose_live):
             return False
-        return kind == 'scan' or self._reached('scan', stamp_s, self._scan_live)
+        if kind == 'scan' or self._reached('scan', stamp_s, self._scan_live):
+            return True
+        # Odometry after the frame: the simulator stopped waiting for it (timeout), so its
+        # scan is not coming in time either.
+        return self._newest['pose'] > stamp_s + STAMP_TOLERANCE_S
 
     def ready(self) -> List[Tuple[str, float, Any]]:
         """Take the (kind, stamp s, value) of the inputs that can be applied now, in stamp order
