@@ -229,7 +229,8 @@ class TrialRunner:
         """Start a trial with the can centre at ``can_xy`` (odom, m); its start in sim time (s).
 
         Paused, nothing moves and no frame is taken while the controller and the scene are
-        reset, so the trial begins exactly at the reset, with the robot where it was put.
+        reset, so the trial begins exactly at the reset, with the robot where it was put. The
+        first start waits until the system is live (so it needs a running simulator).
         """
         self.monitor.wait_until_live(LIVE_TIMEOUT_S)
         self.pause()
