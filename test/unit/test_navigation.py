@@ -230,3 +230,17 @@ def test_occupancy_values_have_rows_along_y():
     ix, iy = grid.cell_of(0.0, 0.3)
     assert values[iy, ix] == 0
     assert values[grid.cell_of(-0.5, -0.5)[::-1]] == -1
+
+
+def test_the_safety_layer_forgets_obstacles_no_scan_has_seen_for_a_while():
+    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, memory_s=10.0)
+    navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    navigator.add_scan(np.array([[0.5, 0.0]]), np.array([True]), (0.0, 0.0), navigator.pose,
+                       stamp_s=0.0)
+    navigator.add_scan(np.array([[0.0, 2.0]]), np.array([False]), (0.0, 0.0), navigator.pose,
+                       range_min_m=1.0, stamp_s=5.0)
+    assert navigator.free_travel_m((0.3, 0.0)) < 0.5          # remembered in the blind zone
+    navigator.add_scan(np.array([[0.0, 2.0]]), np.array([False]), (0.0, 0.0), navigator.pose,
+                       range_min_m=1.0, stamp_s=11.0)
+    assert navigator.free_travel_m((0.3, 0.0)) == 1.0         # not seen for 11 s
+    assert navigator.grid.occupied()[navigator.grid.cell_of(0.5, 0.0)]   # still on the map

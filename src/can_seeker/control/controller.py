@@ -123,6 +123,9 @@ PARAMS = (
     Param('can_exclusion_radius', 0.25, 'range returns within this of the target can\'s '
           'estimated centre are the can (or its shadow), not an obstacle; below stop_distance '
           '+ can_radius, the direct approach never brings the robot to them (m)', 0.0, 1.0),
+    Param('obstacle_memory', 15.0, 'the safety layer avoids a remembered obstacle for this '
+          'long after a scan last saw it (it may stand in the blind zone, or be a phantom '
+          'there) (s)', 1.0, 600.0),
     Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
           'ahead (m)', 0.05, 5.0),
 )
@@ -233,7 +236,8 @@ class Controller:
         self.limits = TwistLimits(config.max_linear, config.max_reverse, config.max_angular,
                                   config.max_linear_accel, config.max_angular_accel)
         self.navigator = Navigator(config.grid_resolution, config.map_size, config.robot_radius,
-                                   config.plan_margin, config.safety_margin)
+                                   config.plan_margin, config.safety_margin,
+                                   config.obstacle_memory)
         self.camera_view: Optional[CameraView] = None
         self.reset()
 
@@ -336,7 +340,8 @@ class Controller:
         """A range scan in base_link (see :meth:`Navigator.add_scan`), taken at the last pose."""
         if self.navigator.pose is None:
             return
-        self.navigator.add_scan(ends_base, hits, origin_base, self.navigator.pose, range_min_m)
+        self.navigator.add_scan(ends_base, hits, origin_base, self.navigator.pose, range_min_m,
+                                now_s)
         self.scan_s = now_s
 
     def set_camera_view(self, view: CameraView) -> None:

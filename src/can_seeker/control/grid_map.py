@@ -31,11 +31,13 @@ class GridMap:
         self.origin_m = -self.cells * self.resolution_m / 2.0
         self.evidence = np.zeros((self.cells, self.cells), np.int16)
         self.seen = np.zeros((self.cells, self.cells), bool)
+        self.last_hit_s = np.full((self.cells, self.cells), -np.inf)
 
     def clear(self) -> None:
         """Forget every obstacle and all coverage."""
         self.evidence[:] = 0
         self.seen[:] = False
+        self.last_hit_s[:] = -np.inf
 
     def forget_coverage(self) -> None:
         """Forget where the camera looked (obstacles stay)."""
@@ -64,7 +66,7 @@ class GridMap:
         return self.evidence > 0
 
     def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
-                 clear_from_m: float = 0.0) -> None:
+                 clear_from_m: float = 0.0, stamp_s: float = 0.0) -> None:
         """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom): the floor along each ray from
         ``clear_from_m`` on is free (nearer, the sensor is blind and what is remembered there
         stays), its end is an obstacle where ``hits`` is true (a ray without a return ends at
@@ -92,6 +94,7 @@ class GridMap:
         free &= ~hit
         self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
+        self.last_hit_s[hit] = stamp_s
 
     def mark_seen(self, camera_xy, heading_rad: float, half_fov_rad: float, near_m: float,
                   far_m: float) -> None:
@@ -114,15 +117,17 @@ class GridMap:
         visible = visible.reshape(-1)
         self.seen[ix[visible], iy[visible]] = True
 
-    def obstacle_points(self, centre_xy, radius_m: float) -> np.ndarray:
-        """Odom centres (N x 2) of occupied cells within ``radius_m`` of ``centre_xy``."""
+    def obstacle_points(self, centre_xy, radius_m: float, since_s: float = -np.inf) -> np.ndarray:
+        """Odom centres (N x 2) of occupied cells within ``radius_m`` of ``centre_xy`` last hit
+        at or after ``since_s``."""
         cells = int(math.ceil(radius_m / self.resolution_m)) + 1
         cx, cy, inside = self.index_of(np.asarray(centre_xy, float))
         if not inside[0]:
             return np.zeros((0, 2))
         x0, x1 = max(0, cx[0] - cells), min(self.cells, cx[0] + cells + 1)
         y0, y1 = max(0, cy[0] - cells), min(self.cells, cy[0] + cells + 1)
-        ox, oy = np.nonzero(self.occupied()[x0:x1, y0:y1])
+        ox, oy = np.nonzero(self.occupied()[x0:x1, y0:y1]
+                            & (self.last_hit_s[x0:x1, y0:y1] >= since_s))
         centres = self.centre_of(ox + x0, oy + y0).reshape(-1, 2)
         near = np.linalg.norm(centres - np.asarray(centre_xy, float), axis=1) <= radius_m
         return centres[near]

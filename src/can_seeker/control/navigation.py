@@ -74,8 +74,10 @@ class Navigator:
     """Grid world model and the motions built on it. Units: m, rad, s; poses in odom."""
 
     def __init__(self, resolution_m: float, size_m: float, robot_radius_m: float,
-                 plan_margin_m: float, safety_margin_m: float):
+                 plan_margin_m: float, safety_margin_m: float, memory_s: float = np.inf):
         self.grid = GridMap(resolution_m, size_m)
+        self.memory_s = memory_s
+        self.scan_s = -np.inf
         self.robot_radius_m = robot_radius_m
         self.plan_margin_m = plan_margin_m
         self.safety_margin_m = safety_margin_m
@@ -86,22 +88,24 @@ class Navigator:
     def reset(self) -> None:
         """Forget the map, the pose and the last scan."""
         self.grid.clear()
+        self.scan_s = -np.inf
         self.pose = None
         self.scan_points = np.zeros((0, 2))
         self.scan_pose = None
 
     def add_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base: Sequence[float],
-                 pose: Pose2D, range_min_m: float = 0.0) -> None:
+                 pose: Pose2D, range_min_m: float = 0.0, stamp_s: float = 0.0) -> None:
         """One range scan taken at ``pose``: the end of every ray in base_link (N x 2), where
         ``hits`` marks a return (else the ray ends at the range it vouches for), from the
-        sensor at ``origin_base``, which is blind nearer than ``range_min_m``."""
+        sensor at ``origin_base``, which is blind nearer than ``range_min_m``, at ``stamp_s``."""
         ends = np.asarray(ends_base, float).reshape(-1, 2)
         hits = np.asarray(hits, bool).reshape(-1)
         self.scan_points = ends[hits]
         self.scan_pose = pose
         origin = avoidance.from_frame(np.asarray(origin_base, float), pose.x, pose.y, pose.yaw)
         self.grid.add_scan(origin[0], avoidance.from_frame(ends, pose.x, pose.y, pose.yaw), hits,
-                           range_min_m)
+                           range_min_m, stamp_s)
+        self.scan_s = stamp_s
 
     def mark_seen(self, view: CameraView) -> None:
         """The camera covered its footprint from the current pose."""
@@ -115,11 +119,14 @@ class Navigator:
     def obstacles_base(self, exclude_xy: Optional[Sequence[float]] = None,
                        exclude_radius_m: float = 0.0) -> np.ndarray:
         """Obstacle points in base_link now: the last scan (moved by the motion since) and the
-        remembered obstacles around the robot, without those near ``exclude_xy`` (odom)."""
+        obstacles around the robot seen within the last ``memory_s`` (an obstacle left in the
+        blind zone is kept that long; a phantom there does not block the robot for ever),
+        without those near ``exclude_xy`` (odom)."""
         pose = self.pose
         if pose is None:
             return np.zeros((0, 2))
-        points = [self.grid.obstacle_points((pose.x, pose.y), MEMORY_RADIUS_M)]
+        points = [self.grid.obstacle_points((pose.x, pose.y), MEMORY_RADIUS_M,
+                                            self.scan_s - self.memory_s)]
         if self.scan_pose is not None and len(self.scan_points):
             scan = self.scan_pose
             points.append(avoidance.from_frame(self.scan_points, scan.x, scan.y, scan.yaw))
