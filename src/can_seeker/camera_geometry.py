@@ -200,3 +200,33 @@ def can_range_bearing(pose, intrinsics, centroid, bbox, diameter_m: float):
         if math.isfinite(distance):
             return distance, bearing, 'width'
     return math.nan, bearing, 'none'
+
+
+def project_floor_points(pose: CameraPose, intrinsics: CameraIntrinsics, points_m: np.ndarray):
+    """Image points (u, v) (px) of floor-frame points (N x 3, m); rows behind the camera are
+    dropped."""
+    optical = (np.asarray(points_m, float) - np.asarray(pose.position)) @ pose.rotation
+    optical = optical[optical[:, 2] > 1e-6]
+    u = intrinsics.fx * optical[:, 0] / optical[:, 2] + intrinsics.cx
+    v = intrinsics.fy * optical[:, 1] / optical[:, 2] + intrinsics.cy
+    return np.stack((u, v), axis=1)
+
+
+def can_image_box(pose: CameraPose, intrinsics: CameraIntrinsics, range_m: float,
+                  bearing: float, diameter_m: float, height_m: float, samples: int = 24):
+    """(width, height) in px of the box around an upright can seen at ``range_m`` (to its near
+    surface) and ``bearing`` (rad) from the camera: its top and bottom rims projected. None
+    when the can is not entirely in front of the camera."""
+    radius_m = diameter_m / 2.0
+    heading = pose.heading_rad + bearing
+    centre_x = pose.position[0] + (range_m + radius_m) * math.cos(heading)
+    centre_y = pose.position[1] + (range_m + radius_m) * math.sin(heading)
+    angles = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
+    rim = np.stack((centre_x + radius_m * np.cos(angles), centre_y + radius_m * np.sin(angles),
+                    np.zeros(samples)), axis=1)
+    points = np.concatenate((rim, rim + (0.0, 0.0, height_m)))
+    pixels = project_floor_points(pose, intrinsics, points)
+    if len(pixels) < len(points):
+        return None
+    extent = pixels.max(axis=0) - pixels.min(axis=0)
+    return float(extent[0]), float(extent[1])

@@ -7,7 +7,7 @@ import pytest
 from can_seeker.camera_geometry import camera_pose_from_transform
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
                                 camera_floor_pose, dead_band, detection_problem,
-                                sighting_from_detection)
+                                detection_shows_can, sighting_from_detection)
 
 DEFAULTS = {spec.name: spec.default for spec in PARAMS}
 STOP = DEFAULTS['stop_distance']
@@ -364,3 +364,11 @@ def test_closed_loop_point_robot_stops_within_tolerance_without_overshoot():
     assert abs(bearing) <= math.radians(DEFAULTS['bearing_tolerance_deg'])
     assert min_gap >= STOP - DEFAULTS['distance_tolerance']
     assert now < 15.0
+
+
+def test_only_confident_detections_show_the_can():
+    assert detection_shows_can(True, 0.8, 0.5)
+    assert detection_shows_can(True, 0.5, 0.5)
+    assert not detection_shows_can(True, 0.3, 0.5)
+    assert not detection_shows_can(False, 1.0, 0.5)
+    assert detection_shows_can(True, 0.0, 0.0)

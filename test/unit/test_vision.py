@@ -1,10 +1,12 @@
-"""Red mask, clean-up, largest blob and moments centroid on synthetic images."""
+"""Red mask, clean-up, candidate blobs with shape scores and moments centroid on synthetic
+images."""
 import cv2
 import numpy as np
 import pytest
 
-from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
-                               centroid_from_moments, draw_annotation, largest_blob)
+from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, MaskScratch,
+                                        RedCanDetector, centroid_from_moments, draw_annotation,
+                                        red_blobs, red_mask, shape_score)
 
 WIDTH, HEIGHT = 320, 240
 SUBPIXEL_BITS = 4
@@ -59,8 +61,8 @@ def test_bounding_box_encloses_the_disk():
 @pytest.mark.parametrize('name, bgr', [
     ('dark red in shade', (15, 15, 90)),
     ('crimson', (60, 20, 220)),
-    ('tomato red', (71, 99, 255)),
-    ('faded red', (95, 85, 210)),
+    ('washed-out red', (70, 65, 200)),
+    ('red in warm light', (20, 55, 240)),
     ('coke red', (36, 30, 228)),
 ])
 def test_shades_of_red_are_found(name, bgr):
@@ -72,6 +74,9 @@ def test_shades_of_red_are_found(name, bgr):
 @pytest.mark.parametrize('name, bgr', [
     ('orange, hue 15', hsv_colour(15, 255, 255)),
     ('red-orange overalls, hue 9', (30, 90, 230)),
+    ('tomato (CSS), orange-red', (71, 99, 255)),
+    ('pink tongue', (120, 100, 220)),
+    ('magenta heather', (150, 60, 170)),
     ('reddish-brown in shade, hue 8', (15, 40, 110)),
     ('magenta, hue 150', hsv_colour(150, 255, 255)),
     ('hot pink', (180, 105, 255)),
@@ -160,10 +165,11 @@ def test_blob_below_the_minimum_area_is_ignored():
     assert detector.detect(image).found
 
 
-def test_non_wrapping_hue_range_finds_other_colours():
-    image = draw_disk(scene(), (100, 100), 20, hsv_colour(60, 255, 200))
-    values = dict(DetectorSettings.defaults().__dict__, hue_min=50, hue_max=70)
-    blob = RedCanDetector(DetectorSettings(**values)).detect(image).blob
+def test_ratios_widen_the_red_range():
+    orange_red = draw_disk(scene(), (100, 100), 20, (20, 90, 230))
+    assert not detect(orange_red).found
+    values = dict(DetectorSettings.defaults().__dict__, green_max_ratio=0.5, orange_max_ratio=0.5)
+    blob = RedCanDetector(DetectorSettings(**values)).detect(orange_red).blob
     assert blob.centroid_x == pytest.approx(100, abs=0.5)
 
 
@@ -171,8 +177,29 @@ def test_settings_can_be_replaced_between_frames():
     image = draw_disk(scene(), (100, 100), 20, hsv_colour(175, 255, 200))
     detector = RedCanDetector()
     assert detector.detect(image).found
-    detector.settings = DetectorSettings(**dict(detector.settings.__dict__, hue_min=179))
+    detector.settings = DetectorSettings(**dict(detector.settings.__dict__, blue_max_ratio=0.1))
     assert not detector.detect(image).found
+
+
+@pytest.mark.parametrize('bgr, red', [
+    ((0, 0, 200), True), ((60, 50, 200), True), ((89, 69, 200), True),
+    ((91, 40, 200), False), ((30, 71, 200), False), ((0, 41, 200), False),
+    ((5, 5, 29), False), ((5, 5, 31), True), ((255, 255, 255), False), ((0, 0, 0), False)])
+def test_red_mask_is_the_chromaticity_decision(bgr, red):
+    """Defaults: green <= 0.35 R, blue <= 0.45 R, green - blue <= 0.2 R, R >= 30."""
+    image = np.full((3, 4, 3), bgr, np.uint8)
+    assert np.all(red_mask(image, DetectorSettings.defaults()) == (255 if red else 0)), bgr
+
+
+def test_red_mask_reuses_its_scratch_buffers_and_reads_strided_images():
+    image = draw_disk(scene(), (100, 100), 20, (0, 0, 220))
+    scratch = MaskScratch(HEIGHT, WIDTH)
+    mask = red_mask(image, DetectorSettings.defaults(), scratch)
+    assert mask is scratch.mask
+    assert mask[100, 100] == 255 and mask[10, 10] == 0
+    padded = np.zeros((HEIGHT, WIDTH + 3, 3), np.uint8)
+    padded[:, :WIDTH] = image
+    assert np.array_equal(red_mask(padded[:, :WIDTH], DetectorSettings.defaults()), mask)
 
 
 def test_buffers_follow_a_change_of_image_size():
@@ -207,26 +234,94 @@ def test_centroid_from_moments_guards_empty_region():
     assert centroid_from_moments(cv2.moments(region, binaryImage=True)) == (3.0, 1.0)
 
 
-def test_largest_blob_of_empty_mask_is_none():
-    assert largest_blob(np.zeros((10, 10), np.uint8), 1.0) is None
+def test_blobs_of_empty_mask_are_none():
+    assert red_blobs(np.zeros((10, 10), np.uint8), 1.0) == []
+
+
+def can_silhouette(image, left, top, width, height, colour=(0, 0, 220)):
+    """An upright can seen from slightly above: a box with an elliptic top and bottom."""
+    ends = max(2, width // 5)
+    cv2.rectangle(image, (left, top + ends), (left + width - 1, top + height - 1 - ends), colour,
+                  -1)
+    for row in (top + ends, top + height - 1 - ends):
+        cv2.ellipse(image, (left + width // 2, row), (width // 2, ends), 0, 0, 360, colour, -1)
+    return image
+
+
+def test_a_can_silhouette_scores_high_and_other_shapes_low():
+    image = scene()
+    can_silhouette(image, 40, 60, 30, 58)
+    cv2.rectangle(image, (120, 40), (220, 70), (0, 0, 220), -1)           # lying bar
+    cv2.circle(image, (270, 180), 25, (0, 0, 220), -1)                     # ball
+    ring = cv2.ellipse(np.zeros_like(image), (150, 180), (40, 40), 0, 0, 300, (0, 0, 220), 12)
+    image = np.maximum(image, ring)                                        # open ring
+    scores = {(round(blob.centroid_x / 10), round(blob.centroid_y / 10)): blob.shape_score
+              for blob in detect(image).candidates}
+    can = scores.pop((5, 9))
+    assert can > 0.9
+    assert max(scores.values()) < 0.3, scores
+
+
+def test_shape_score_parts():
+    assert shape_score(1.0, 0.9, 1.85, 0.0, ()) == 1.0
+    assert shape_score(0.7, 0.9, 1.85, 0.0, ()) == 0.0         # concave
+    assert shape_score(1.0, 0.5, 1.85, 0.0, ()) == 0.0         # does not fill its box
+    assert shape_score(1.0, 0.9, 0.9, 0.0, ()) == 0.0          # wider than tall
+    assert shape_score(1.0, 0.9, 5.0, 0.0, ()) == 0.0          # a pole
+    assert shape_score(1.0, 0.9, 1.85, 35.0, ()) == 0.0        # leaning
+    assert shape_score(1.0, 0.9, 1.85, 12.0, ()) == 1.0        # perspective near the side
+    assert shape_score(1.0, 0.9, 0.9, 0.0, ('top',)) == pytest.approx(0.75)  # height unknown
+    assert shape_score(1.0, 0.9, 3.0, 0.0, ('left', 'bottom')) == pytest.approx(0.5625)
+
+
+def test_tilted_bar_is_not_upright():
+    image = scene()
+    box = cv2.boxPoints(((160, 120), (24, 70), 45.0)).astype(np.int32)
+    cv2.fillPoly(image, [box], (0, 0, 220))
+    blob = detect(image).blob
+    assert blob.tilt_deg == pytest.approx(45.0, abs=3.0)
+    assert blob.shape_score == 0.0
+
+
+def test_candidates_are_the_largest_first_and_cut_sides_are_named():
+    image = draw_disk(scene(), (10, 120), 25, (0, 0, 220))
+    can_silhouette(image, 200, 50, 20, 40)
+    candidates = detect(image).candidates
+    assert [blob.cut for blob in candidates] == [('left',), ()]
+    assert candidates[0].area > candidates[1].area
 
 
 def test_annotation_marks_the_centroid_and_leaves_the_input_alone():
     image = draw_disk(scene(), (160, 120), 30, (0, 0, 220))
     original = image.copy()
     result = detect(image)
-    annotated = draw_annotation(image, result, 0.42)
+    annotated = draw_annotation(image, result, [0.25], 0, 0.42)
     assert np.array_equal(image, original)
     assert annotated.shape == image.shape and annotated.dtype == np.uint8
     assert tuple(annotated[120, 160]) == (0, 255, 0)
     assert not np.array_equal(annotated[0:40, 0:150], image[0:40, 0:150])
+    out = np.zeros_like(image)
+    assert draw_annotation(image, result, [0.25], 0, 0.42, out=out) is out
+    assert np.array_equal(out, annotated)
+
+
+def test_annotation_writes_every_candidates_score():
+    image = draw_disk(draw_disk(scene(), (60, 60), 15, (0, 0, 220)), (220, 150), 25,
+                      (0, 0, 220))
+    result = detect(image)
+    low = draw_annotation(image, result, [0.0, 0.0], None, float('nan'))
+    high = draw_annotation(image, result, [0.0, 0.75], None, float('nan'))
+    for index, blob in enumerate(result.candidates):
+        label = (slice(max(0, blob.y - 16), blob.y), slice(blob.x, blob.x + 40))
+        assert np.any(low[label] > 200), blob
+        assert np.array_equal(low[label], high[label]) == (index == 0), blob
 
 
 def test_annotation_without_a_blob_or_range():
     image = scene()
-    assert draw_annotation(image, detect(image), float('nan')).shape == image.shape
+    assert draw_annotation(image, detect(image), [], None, float('nan')).shape == image.shape
     red = draw_disk(scene(), (160, 120), 30, (0, 0, 220))
-    assert draw_annotation(red, detect(red), float('nan')).shape == image.shape
+    assert draw_annotation(red, detect(red), [1.0], 0, float('nan')).shape == image.shape
 
 
 def test_settings_fields_match_the_parameters():

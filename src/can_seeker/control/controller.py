@@ -91,6 +91,9 @@ PARAMS = (
     Param('can_radius', 0.033, 'radius of the can (m)', 0.0, 0.5),
     Param('can_height', 0.122, 'height of the can, for the floor the camera covers (m)',
           0.0, 2.0),
+    Param('min_confidence', 0.5,
+          'act only on detections whose confidence that the red object is the can is at least '
+          'this (0-1; 0 = every red object)', 0.0, 1.0),
     Param('camera_x', 0.12,
           'camera x in base_link, used only while TF has no base_link -> camera transform (m)',
           -2.0, 2.0),
@@ -193,6 +196,12 @@ def detection_problem(found: bool, range_m: float, bearing_rad: float) -> Option
     if math.isinf(range_m) or range_m < 0.0:
         return 'detection has found=true but range %r' % (range_m,)
     return None
+
+
+def detection_shows_can(found: bool, confidence: float, min_confidence: float) -> bool:
+    """Whether a detection is taken as the can: a red object (found) that the detector is
+    at least ``min_confidence`` sure is the can (not a red book, flag or toy)."""
+    return found and confidence >= min_confidence
 
 
 def sighting_from_detection(found: bool, range_m: float, bearing_rad: float, camera: CameraFloorPose,

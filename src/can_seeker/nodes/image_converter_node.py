@@ -17,7 +17,7 @@ from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_fr
 from can_seeker.cfg import ImageConverterConfig
 from can_seeker.gui.display_check import OPENCV_WINDOW_PROBE, display_problem
 from can_seeker.gui.windows import ImageWindows
-from can_seeker.vision.report import PARAMS, can_report, fallback_pose
+from can_seeker.vision.report import PARAMS, CanModel, can_report, fallback_pose
 from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
 from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
@@ -57,6 +57,7 @@ class ImageConverterNode:
         for spec in DETECTOR_PARAMS:
             rospy.set_param('~' + spec.name, getattr(self.config, spec.name))
         self.detector = RedCanDetector(DetectorSettings.from_values(self.config))
+        self.can_model = CanModel.from_values(self.config)
         self.fallback_pose = fallback_pose(self.config.camera_height, self.config.camera_pitch_deg)
         self.intrinsics = None
         self.tf_buffer = tf2_ros.Buffer()
@@ -131,7 +132,8 @@ class ImageConverterNode:
             bgr = decode_image_msg(msg)
         except NoColourError as error:
             rospy.logwarn_once('image_converter: %s' % error)
-            self.publish_detection(msg, can_report(None, msg.width, msg.height, None, None, 0.0))
+            self.publish_detection(msg, can_report((), msg.width, msg.height, None, None,
+                                                   self.can_model))
             return
         except ImageDecodeError as error:
             self.log_decode_error(error)
@@ -143,8 +145,8 @@ class ImageConverterNode:
         want_annotated = self.annotated_pub.get_num_connections() > 0
         result = self.detector.detect(bgr, want_edges)
         pose, intrinsics = self.camera_geometry(msg) if result.found else (None, None)
-        report = can_report(result.blob, msg.width, msg.height, pose, intrinsics,
-                            self.config.can_diameter)
+        report = can_report(result.candidates, msg.width, msg.height, pose, intrinsics,
+                            self.can_model)
         self.publish_detection(msg, report)
         if want_mask:
             self.mask_pub.publish(image_msg(msg.header, result.mask, 'mono8'))
@@ -152,7 +154,8 @@ class ImageConverterNode:
             self.edges_pub.publish(image_msg(msg.header, result.edges, 'mono8'))
         if self.display is None and not want_annotated:
             return
-        annotated = draw_annotation(bgr, result, report.range_m)
+        annotated = draw_annotation(bgr, result, report.confidences, report.chosen,
+                                    report.range_m)
         if want_annotated:
             self.annotated_pub.publish(image_msg(msg.header, annotated, 'bgr8'))
         if self.display is not None:
@@ -172,7 +175,7 @@ class ImageConverterNode:
                                  centroid_x=report.centroid_x, centroid_y=report.centroid_y,
                                  area=report.area, image_width=report.image_width,
                                  image_height=report.image_height, bearing=report.bearing_rad,
-                                 range=report.range_m)
+                                 range=report.range_m, confidence=report.confidence)
         detection.bbox.x_offset, detection.bbox.y_offset, detection.bbox.width, \
             detection.bbox.height = report.bbox
         self.detection_pub.publish(detection)

@@ -21,14 +21,14 @@ from tqdm import tqdm
 
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 from can_seeker.vision import report
-from can_seeker.vision.report import can_report, fallback_pose
+from can_seeker.vision.report import CanModel, can_report, fallback_pose
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
 from can_seeker.params import read_params
 from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_annotation
 
 DEFAULT_IMAGE_TOPIC = '/camera/image_raw'
 CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
-               'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method')
+               'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method', 'confidence')
 
 
 def parse_args(argv):
@@ -42,7 +42,7 @@ def parse_args(argv):
     parser.add_argument('--camera-info-topic', default='/camera/camera_info')
     parser.add_argument('--param', action='append', default=[], metavar='NAME=VALUE',
                         help='override an image_converter parameter (repeatable), e.g. '
-                             'hue_max=10; see the README table')
+                             'green_max_ratio=0.4; see the README table')
     return parser.parse_args(argv)
 
 
@@ -86,7 +86,7 @@ def report_row(stamp_s, report):
             '%.2f' % report.centroid_y, '%.0f' % report.area) + tuple(report.bbox) + (
         '%.4f' % report.range_m if math.isfinite(report.range_m) else 'nan',
         '%.4f' % report.bearing_rad if math.isfinite(report.bearing_rad) else 'nan',
-        report.range_method)
+        report.range_method, '%.3f' % report.confidence)
 
 
 class BagDetector:
@@ -98,6 +98,7 @@ class BagDetector:
         self.image_topic = image_topic
         self.decode = MESSAGE_DECODERS[image_type]
         self.detector = RedCanDetector(DetectorSettings.from_values(config))
+        self.can_model = CanModel.from_values(config)
         self.fallback_pose = fallback_pose(config.camera_height, config.camera_pitch_deg)
         self.tf = tf2_ros.BufferCore(rospy.Duration(3600.0))
         self.intrinsics = None
@@ -121,7 +122,7 @@ class BagDetector:
         try:
             bgr = self.decode(msg)
         except NoColourError:
-            return can_report(None, msg.width, msg.height, None, None, 0.0)
+            return can_report((), msg.width, msg.height, None, None, self.can_model)
         except ImageDecodeError as error:
             reason = str(error).split(':')[0]
             self.skipped[reason] = self.skipped.get(reason, 0) + 1
@@ -131,10 +132,11 @@ class BagDetector:
         height, width = bgr.shape[:2]
         if intrinsics is not None and (intrinsics.width, intrinsics.height) != (width, height):
             intrinsics = None
-        report = can_report(result.blob, width, height, self.camera_pose(msg),
-                            intrinsics, self.config.can_diameter)
+        report = can_report(result.candidates, width, height, self.camera_pose(msg),
+                            intrinsics, self.can_model)
         if self.args.video:
-            self.write_video(draw_annotation(bgr, result, report.range_m), fps)
+            self.write_video(draw_annotation(bgr, result, report.confidences, report.chosen,
+                                             report.range_m), fps)
         return report
 
     def write_video(self, annotated, fps):

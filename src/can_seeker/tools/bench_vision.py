@@ -25,7 +25,7 @@ import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
-from can_seeker.vision.report import can_report, fallback_pose
+from can_seeker.vision.report import CanModel, can_report, fallback_pose
 from can_seeker.msg import CanDetection
 from can_seeker.vision.camera_scan import CameraScanner
 from can_seeker.vision.detector import RedCanDetector
@@ -70,7 +70,8 @@ def tutorial_callback(bgr):
 def our_pipeline(detector, pose, intrinsics):
     def run(bgr):
         result = detector.detect(bgr, want_edges=True)
-        return can_report(result.blob, bgr.shape[1], bgr.shape[0], pose, intrinsics, 0.066)
+        return can_report(result.candidates, bgr.shape[1], bgr.shape[0], pose, intrinsics,
+                          CanModel())
     return run
 
 

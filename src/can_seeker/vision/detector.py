@@ -1,14 +1,21 @@
-"""Red can detection in one BGR image: HSV red mask, clean-up, largest blob, moments, edges.
+"""Red object detection in one BGR image: chromaticity red mask, clean-up, candidate blobs
+with moments and shape scores, edges, annotation.
 
-Hue is in OpenCV units (0-179, degrees / 2). Red straddles hue 0, so the hue range wraps:
-``hue_min > hue_max`` means hue >= hue_min OR hue <= hue_max (two ranges OR-ed), as in
-opencv_apps' hsv_color_filter. The defaults are chosen so that red objects from pure red to
-crimson (hue ~168-179 and 0-6) are found under varied lighting while red-orange and orange
-(hue 7 and up: orange overalls, reddish-brown fur, wood, skin in warm light), brown,
-pink-ish walls, magenta and grey are not; the saturation minimum rejects pale skin and pink.
+Colour: a pixel is red when red clearly dominates both other channels, measured as ratios to
+the red channel (chromaticity, so the decision does not change with brightness):
+``green <= green_max_ratio * red``, ``blue <= blue_max_ratio * red``, ``green - blue <=
+orange_max_ratio * red`` and ``red >= value_min``. Orange, yellow and skin fail on green (or on
+green above blue), pink, magenta and purple on blue; grey, white and black on all. The ratios
+were chosen on the labelled set of evaluation/labelled_images.py (photographs from Debian
+packages and rendered cans under warm, cool, dim and bright light), in the middle of the range
+where every red object was still found and the fewest near-red ones were.
+
+Shape: every red blob above the minimum area is a candidate, scored 0-1 for how much it looks
+like an upright can's silhouette (convex, filling its box, taller than wide, upright).
 """
-from dataclasses import dataclass
-from typing import Optional
+import math
+from dataclasses import dataclass, field
+from typing import List, Optional, Tuple
 
 import cv2
 import numpy as np
@@ -16,19 +23,25 @@ import numpy as np
 from can_seeker.params import Param
 
 EDGE_METHODS = ('canny', 'sobel', 'laplacian')
+MAX_CANDIDATES = 8
+"""Blobs scored per frame, largest first (more are ignored)."""
+CUT_FACTOR = 0.75
+"""Shape score factor per image axis along which a blob is cut by the image edge."""
 
 # Thresholds of the detector; all of them are tunable live with dynamic_reconfigure.
 DETECTOR_PARAMS = (
-    Param('hue_min', 168, 'lower hue bound of red (OpenCV hue units 0-179 = degrees/2); '
-          'hue_min > hue_max wraps around 0', 0, 179),
-    Param('hue_max', 6, 'upper hue bound of red (OpenCV hue units 0-179 = degrees/2)', 0, 179),
-    Param('saturation_min', 130, 'minimum HSV saturation of a red pixel (0-255)', 0, 255),
-    Param('value_min', 50, 'minimum HSV value (brightness) of a red pixel (0-255)', 0, 255),
-    Param('min_area_fraction', 0.0005, 'smallest blob accepted as the can, as a fraction of '
-          'the image area (1)', 0.0, 1.0),
+    Param('green_max_ratio', 0.35, 'a red pixel has green <= this x red, which rejects orange, '
+          'yellow, skin and pink (1)', 0.0, 1.0),
+    Param('blue_max_ratio', 0.45, 'a red pixel has blue <= this x red, which rejects pink, magenta '
+          'and purple (1)', 0.0, 1.0),
+    Param('orange_max_ratio', 0.2, 'a red pixel has green - blue <= this x red, which rejects '
+          'red-orange and orange (1)', 0.0, 1.0),
+    Param('value_min', 30, 'minimum red channel (brightness) of a red pixel (0-255)', 0, 255),
+    Param('min_area_fraction', 0.0005, 'smallest red blob reported, as a fraction of the image '
+          'area (1)', 0.0, 1.0),
     Param('open_kernel_px', 3, 'side of the opening kernel that removes red speckles (px, '
           '1 = off)', 1, 31),
-    Param('close_kernel_px', 5, 'side of the closing kernel that fills highlights and '
+    Param('close_kernel_px', 7, 'side of the closing kernel that fills highlights and '
           'holes in the blob (px, 1 = off)', 1, 31),
     Param('edge_method', 'canny', 'edge detector of the ~edges image: canny, sobel or '
           'laplacian', choices=EDGE_METHODS),
@@ -41,9 +54,9 @@ DETECTOR_PARAMS = (
 class DetectorSettings:
     """Validated thresholds of :class:`RedCanDetector` (see DETECTOR_PARAMS for units)."""
 
-    hue_min: int
-    hue_max: int
-    saturation_min: int
+    green_max_ratio: float
+    blue_max_ratio: float
+    orange_max_ratio: float
     value_min: int
     min_area_fraction: float
     open_kernel_px: int
@@ -63,11 +76,53 @@ class DetectorSettings:
         return cls(**{spec.name: getattr(values, spec.name) for spec in DETECTOR_PARAMS})
 
 
+class MaskScratch:
+    """Buffers of :func:`red_mask` for one image size, reused from frame to frame."""
+
+    def __init__(self, height: int, width: int):
+        self.shape = (height, width)
+        self.channels = [np.empty((height, width), np.uint8) for _ in range(3)]
+        self.margins = [np.empty((height, width), np.uint8) for _ in range(3)]
+        self.mask = np.empty((height, width), np.uint8)
+
+
+def red_mask(bgr: np.ndarray, settings, scratch: Optional[MaskScratch] = None) -> np.ndarray:
+    """mono8 mask of a BGR uint8 image: 255 where a pixel is red by the chromaticity model of
+    ``settings`` (any object with green_max_ratio, blue_max_ratio, orange_max_ratio and
+    value_min, e.g. :class:`DetectorSettings`), else 0. No clean-up.
+
+    With ``scratch`` (a :class:`MaskScratch` of the image's size) no memory is allocated and
+    the mask returned is ``scratch.mask``, overwritten by the next call.
+    """
+    height, width = bgr.shape[:2]
+    if scratch is None or scratch.shape != (height, width):
+        scratch = MaskScratch(height, width)
+    blue, green, red = scratch.channels
+    green_margin, blue_margin, orange_margin = scratch.margins
+    cv2.split(bgr, scratch.channels)
+    # Each margin is saturate(ratio * red - channel + 1): nonzero where the pixel passes.
+    cv2.addWeighted(red, settings.green_max_ratio, green, -1.0, 1.0, dst=green_margin)
+    cv2.addWeighted(red, settings.blue_max_ratio, blue, -1.0, 1.0, dst=blue_margin)
+    cv2.addWeighted(red, settings.orange_max_ratio, blue, 1.0, 1.0, dst=orange_margin)
+    cv2.subtract(orange_margin, green, dst=orange_margin)
+    cv2.min(green_margin, blue_margin, dst=green_margin)
+    cv2.min(green_margin, orange_margin, dst=green_margin)
+    cv2.threshold(green_margin, 0, 255, cv2.THRESH_BINARY, dst=green_margin)
+    cv2.threshold(red, settings.value_min - 1, 255, cv2.THRESH_BINARY, dst=blue_margin)
+    return cv2.bitwise_and(green_margin, blue_margin, dst=scratch.mask)
+
+
 @dataclass(frozen=True)
 class Blob:
-    """The largest red blob: centroid from its image moments (px), area (px^2), bbox (px).
+    """A red blob: centroid from its image moments (px), area (px^2), bbox (px), its shape
+    measures and their score (0-1, how much it looks like an upright can's silhouette).
 
     The bounding box is inclusive of ``x``/``y`` and ``width``/``height`` pixels wide/high.
+    ``cut`` names the image sides the blob touches ('left', 'right', 'top', 'bottom'): its
+    size along those is unknown. ``solidity`` is area / convex hull area, ``fill`` area / area
+    of the smallest rotated rectangle around it (perspective leans a can near the image side),
+    ``aspect`` height / width of the box, ``tilt_deg`` the angle of its long axis from
+    the vertical.
     """
 
     centroid_x: float
@@ -77,20 +132,36 @@ class Blob:
     y: int
     width: int
     height: int
+    solidity: float = 1.0
+    fill: float = 1.0
+    aspect: float = 1.0
+    tilt_deg: float = 0.0
+    cut: Tuple[str, ...] = ()
+    shape_score: float = 1.0
+    contour: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
 
 
 @dataclass
 class VisionResult:
-    """One frame's output. ``mask``/``edges`` are the detector's buffers: valid until the next
-    call of :meth:`RedCanDetector.detect` (copy them to keep them)."""
+    """One frame's output: red blobs above the minimum area (largest first) and the images.
 
-    blob: Optional[Blob]
+    ``mask``/``edges`` are the detector's buffers: valid until the next call of
+    :meth:`RedCanDetector.detect` (copy them to keep them).
+    """
+
+    candidates: List[Blob]
     mask: np.ndarray
     edges: Optional[np.ndarray]
 
     @property
     def found(self) -> bool:
-        return self.blob is not None
+        """Whether any red object was seen."""
+        return bool(self.candidates)
+
+    @property
+    def blob(self) -> Optional[Blob]:
+        """The largest red blob (None when there is none)."""
+        return self.candidates[0] if self.candidates else None
 
 
 def centroid_from_moments(moments):
@@ -106,7 +177,7 @@ def _kernel(side_px):
 
 
 class RedCanDetector:
-    """Finds the largest red blob in BGR images; reuses its buffers while the size is unchanged."""
+    """Finds red blobs in BGR images; reuses its buffers while the size is unchanged."""
 
     def __init__(self, settings: Optional[DetectorSettings] = None):
         self._shape = None
@@ -124,29 +195,18 @@ class RedCanDetector:
                         _kernel(settings.close_kernel_px))
 
     def _buffers(self, shape):
-        if shape != self._shape:
+        if shape[:2] != self._shape:
             height, width = shape[:2]
-            self._hsv = np.empty((height, width, 3), np.uint8)
-            self._mask = np.empty((height, width), np.uint8)
-            self._wrap_mask = np.empty((height, width), np.uint8)
+            self._scratch = MaskScratch(height, width)
             self._clean_mask = np.empty((height, width), np.uint8)
             self._grey = np.empty((height, width), np.uint8)
             self._edges = np.empty((height, width), np.uint8)
-            self._shape = shape
+            self._shape = shape[:2]
 
     def red_mask(self, bgr: np.ndarray, settings: DetectorSettings) -> np.ndarray:
-        """255 where a pixel is red (wrapped hue range, saturation and value minima), else 0."""
+        """:func:`red_mask` into this detector's buffers."""
         self._buffers(bgr.shape)
-        cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV, dst=self._hsv)
-        low_sv = (settings.saturation_min, settings.value_min)
-        if settings.hue_min > settings.hue_max:
-            cv2.inRange(self._hsv, (settings.hue_min,) + low_sv, (179, 255, 255), dst=self._mask)
-            cv2.inRange(self._hsv, (0,) + low_sv, (settings.hue_max, 255, 255), dst=self._wrap_mask)
-            cv2.bitwise_or(self._mask, self._wrap_mask, dst=self._mask)
-        else:
-            cv2.inRange(self._hsv, (settings.hue_min,) + low_sv, (settings.hue_max, 255, 255),
-                        dst=self._mask)
-        return self._mask
+        return red_mask(bgr, settings, self._scratch)
 
     def clean_mask(self, mask: np.ndarray, open_kernel, close_kernel) -> np.ndarray:
         """Opening removes speckles, closing fills highlights and holes inside the blob
@@ -172,78 +232,155 @@ class RedCanDetector:
         return cv2.convertScaleAbs(cv2.Laplacian(self._grey, cv2.CV_16S), dst=self._edges)
 
     def detect(self, bgr: np.ndarray, want_edges: bool = False) -> VisionResult:
-        """Largest red blob of a BGR uint8 image (None when there is none big enough)."""
+        """Red blobs of a BGR uint8 image, largest first (empty when none is big enough)."""
         settings, open_kernel, close_kernel = self._config
         if bgr.size == 0:
             empty = np.zeros(bgr.shape[:2], np.uint8)
-            return VisionResult(None, empty, empty.copy() if want_edges else None)
+            return VisionResult([], empty, empty.copy() if want_edges else None)
         mask = self.clean_mask(self.red_mask(bgr, settings), open_kernel, close_kernel)
         min_area_px = max(1.0, settings.min_area_fraction * mask.shape[0] * mask.shape[1])
-        blob = largest_blob(mask, min_area_px)
+        candidates = red_blobs(mask, min_area_px)
         edges = self.edges(bgr, settings) if want_edges else None
-        return VisionResult(blob, mask, edges)
+        return VisionResult(candidates, mask, edges)
 
 
-def largest_blob(mask: np.ndarray, min_area_px: float) -> Optional[Blob]:
-    """The largest 8-connected region of a binary mask, or None if it is below ``min_area_px``.
+def _ramp(value: float, zero_at: float, one_at: float) -> float:
+    """0 at ``zero_at``, 1 at ``one_at``, linear between, clipped to 0-1."""
+    return min(1.0, max(0.0, (value - zero_at) / (one_at - zero_at)))
 
-    The region is picked by the area inside its outer contour (cheap on a cleaned mask); its
-    area and centroid come from the image moments of its own pixels, holes excluded.
+
+def shape_score(solidity: float, fill: float, aspect: float, tilt_deg: float,
+                cut: Tuple[str, ...]) -> float:
+    """How much a blob looks like an upright can's silhouette (0-1): the product of four
+    scores, each 1 for a can seen by a level or downward-pitched camera and 0 well outside.
+
+    A can's silhouette is convex (solidity 1; 0.8 and below is not a can), a box with rounded
+    ends (fill of its rotated box ~0.9; 0.6 and below is not), upright (long axis within 15 deg
+    of vertical, as perspective leans a can near the image side; 35 deg is not) and taller than
+    wide: a 12 oz can (122 x 66 mm) seen from the side to 75 deg from above is 1.4-2.2 times
+    as tall as wide, so 1.4-2.6 scores 1, 1.0 or 4.0 scores 0.
+    Measures along a cut side are not judged, and each cut axis (left/right, top/bottom)
+    multiplies the score by CUT_FACTOR: a partly seen silhouette is a weaker sign of a can.
+    """
+    score = _ramp(solidity, 0.8, 0.93) * _ramp(fill, 0.6, 0.8)
+    cut_across = 'left' in cut or 'right' in cut
+    cut_along = 'top' in cut or 'bottom' in cut
+    if not (cut_across or cut_along):
+        score *= min(_ramp(aspect, 1.0, 1.4), _ramp(-aspect, -4.0, -2.6))
+    elif cut_across and not cut_along:
+        score *= _ramp(aspect, 1.0, 1.4)
+    score *= CUT_FACTOR ** (int(cut_across) + int(cut_along))
+    return score * _ramp(-tilt_deg, -35.0, -15.0)
+
+
+def _cut_sides(x, y, width, height, image_width, image_height):
+    sides = []
+    if x <= 0:
+        sides.append('left')
+    if y <= 0:
+        sides.append('top')
+    if x + width >= image_width:
+        sides.append('right')
+    if y + height >= image_height:
+        sides.append('bottom')
+    return tuple(sides)
+
+
+def _tilt_deg(moments) -> float:
+    """Angle of the long axis of a region from the vertical (deg, 0-90); 0 when the region
+    is round (no long axis)."""
+    mu20, mu02, mu11 = moments['mu20'], moments['mu02'], moments['mu11']
+    spread = math.hypot(mu20 - mu02, 2.0 * mu11)
+    if spread <= 0.1 * (mu20 + mu02):
+        return 0.0
+    axis_from_x_deg = math.degrees(0.5 * math.atan2(2.0 * mu11, mu20 - mu02))
+    return 90.0 - abs(axis_from_x_deg)
+
+
+def red_blobs(mask: np.ndarray, min_area_px: float,
+              max_candidates: int = MAX_CANDIDATES) -> List[Blob]:
+    """The 8-connected regions of a binary mask with at least ``min_area_px`` pixels, largest
+    first (at most ``max_candidates``), each with its shape measures and score.
+
+    Regions are ranked by the area inside their outer contour (cheap on a cleaned mask); the
+    area and centroid come from the image moments of their own pixels, holes excluded.
     """
     contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
-    if not contours:
-        return None
-    contour = max(contours, key=cv2.contourArea)
-    x, y, width, height = cv2.boundingRect(contour)
-    region = np.zeros((height, width), np.uint8)
-    cv2.drawContours(region, [contour], -1, 1, cv2.FILLED, offset=(-x, -y))
-    cv2.bitwise_and(region, mask[y:y + height, x:x + width], dst=region)
-    moments = cv2.moments(region, binaryImage=True)
-    centroid = centroid_from_moments(moments)
-    if centroid is None or moments['m00'] < min_area_px:
-        return None
-    return Blob(x + centroid[0], y + centroid[1], float(moments['m00']), x, y, width, height)
+    areas = [cv2.contourArea(contour) for contour in contours]
+    order = sorted(range(len(contours)), key=areas.__getitem__, reverse=True)
+    image_height, image_width = mask.shape[:2]
+    blobs = []
+    for index in order[:max_candidates]:
+        contour = contours[index]
+        x, y, width, height = cv2.boundingRect(contour)
+        region = np.zeros((height, width), np.uint8)
+        cv2.drawContours(region, [contour], -1, 1, cv2.FILLED, offset=(-x, -y))
+        cv2.bitwise_and(region, mask[y:y + height, x:x + width], dst=region)
+        moments = cv2.moments(region, binaryImage=True)
+        centroid = centroid_from_moments(moments)
+        if centroid is None or moments['m00'] < min_area_px:
+            continue
+        hull_area = cv2.contourArea(cv2.convexHull(contour))
+        solidity = min(1.0, moments['m00'] / hull_area) if hull_area > 0 else 1.0
+        (_, _), (side_a, side_b), _ = cv2.minAreaRect(contour)
+        fill = min(1.0, moments['m00'] / max(1.0, (side_a + 1.0) * (side_b + 1.0)))
+        aspect = height / float(width)
+        tilt = _tilt_deg(moments)
+        cut = _cut_sides(x, y, width, height, image_width, image_height)
+        blobs.append(Blob(x + centroid[0], y + centroid[1], float(moments['m00']), x, y, width,
+                          height, solidity, fill, aspect, tilt, cut,
+                          shape_score(solidity, fill, aspect, tilt, cut), contour))
+    blobs.sort(key=lambda blob: blob.area, reverse=True)
+    return blobs
 
 
-def blob_contour(mask: np.ndarray, blob: Blob):
-    """Outer contour of the blob (OpenCV point array in image coordinates) for drawing."""
-    region = mask[blob.y:blob.y + blob.height, blob.x:blob.x + blob.width]
-    contours, _ = cv2.findContours(region, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE,
-                                   offset=(blob.x, blob.y))
-    return max(contours, key=cv2.contourArea) if contours else None
-
-
-MASK_TINT_BGR = (0, 255, 0)
+MASK_TINT_BGR = (0, 110, 0, 0)
 CONTOUR_BGR = (0, 255, 255)
+OTHER_CONTOUR_BGR = (255, 0, 255)
 BOX_BGR = (255, 128, 0)
 CENTROID_BGR = (0, 255, 0)
 TEXT_BGR = (255, 255, 255)
 
 
-def draw_annotation(bgr: np.ndarray, result: VisionResult, range_m: float) -> np.ndarray:
-    """A new BGR image: the input with the mask tinted, the blob's contour, box, centroid and
-    the range written on it ("range ? m" when unknown)."""
-    annotated = bgr.copy()
-    tinted = annotated.copy()
-    tinted[result.mask > 0] = MASK_TINT_BGR
-    cv2.addWeighted(tinted, 0.35, annotated, 0.65, 0, dst=annotated)
+def _put_text(image, text, origin, scale, thickness):
+    cv2.putText(image, text, origin, cv2.FONT_HERSHEY_SIMPLEX, scale, (0, 0, 0), thickness + 2,
+                cv2.LINE_AA)
+    cv2.putText(image, text, origin, cv2.FONT_HERSHEY_SIMPLEX, scale, TEXT_BGR, thickness,
+                cv2.LINE_AA)
+
+
+def draw_annotation(bgr: np.ndarray, result: VisionResult, confidences, chosen: Optional[int],
+                    range_m: float, out: Optional[np.ndarray] = None) -> np.ndarray:
+    """The input with the red mask tinted green, every candidate's contour and confidence
+    (0-1), the chosen one's box and centroid, and the range ("range ? m" when unknown).
+
+    ``confidences`` holds one value per candidate of ``result`` and ``chosen`` the index of the
+    one reported (None: nothing found). Drawn into ``out`` when given (same shape as ``bgr``),
+    else into a new image.
+    """
+    if out is None:
+        annotated = bgr.copy()
+    else:
+        annotated = out
+        np.copyto(annotated, bgr)
+    cv2.add(annotated, MASK_TINT_BGR, dst=annotated, mask=result.mask)
     scale = max(0.35, annotated.shape[0] / 480.0)
     thickness = max(1, int(round(scale * 2)))
-    if result.blob is None:
-        label = 'no red can'
+    for index, (blob, confidence) in enumerate(zip(result.candidates, confidences)):
+        colour = CONTOUR_BGR if index == chosen else OTHER_CONTOUR_BGR
+        if blob.contour is not None:
+            cv2.drawContours(annotated, [blob.contour], -1, colour, thickness)
+        _put_text(annotated, '%.2f' % confidence,
+                  (blob.x, max(int(14 * scale), blob.y - int(4 * scale))), 0.6 * scale,
+                  max(1, thickness - 1))
+    if chosen is None:
+        label = 'no red object'
     else:
-        blob = result.blob
-        contour = blob_contour(result.mask, blob)
-        if contour is not None:
-            cv2.drawContours(annotated, [contour], -1, CONTOUR_BGR, thickness)
+        blob = result.candidates[chosen]
         cv2.rectangle(annotated, (blob.x, blob.y),
                       (blob.x + blob.width - 1, blob.y + blob.height - 1), BOX_BGR, thickness)
         centre = (int(round(blob.centroid_x)), int(round(blob.centroid_y)))
         cv2.circle(annotated, centre, max(2, 3 * thickness), CENTROID_BGR, -1)
         label = 'range ? m' if not np.isfinite(range_m) else 'range %.2f m' % range_m
-    origin = (int(8 * scale), int(24 * scale))
-    cv2.putText(annotated, label, origin, cv2.FONT_HERSHEY_SIMPLEX, 0.7 * scale, (0, 0, 0),
-                thickness + 2, cv2.LINE_AA)
-    cv2.putText(annotated, label, origin, cv2.FONT_HERSHEY_SIMPLEX, 0.7 * scale, TEXT_BGR,
-                thickness, cv2.LINE_AA)
+    _put_text(annotated, label, (int(8 * scale), int(24 * scale)), 0.7 * scale, thickness)
     return annotated

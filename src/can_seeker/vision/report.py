@@ -1,15 +1,27 @@
-"""The image_converter's parameters and its per-frame answer: blob + camera geometry -> report.
+"""The image_converter's parameters and its per-frame answer: red blobs + camera geometry ->
+report with the most can-like blob and the confidence that it is the can.
+
+Confidence (0-1) = the blob's shape score (detector.shape_score) x its geometry score: when
+the camera pose and intrinsics are known and the blob's floor range is, the box a 66 mm x
+122 mm can would fill at that range and bearing is compared with the blob's box (sides cut by
+the image edge are not compared); the score is 1 while both sizes are within
+``size_tolerance`` of the can's, falling to 0 at twice that. Without geometry it is 1.
 
 Shared by the ROS node and the offline bag tool so both give the same numbers.
 """
 import math
 from dataclasses import dataclass
-from typing import Optional
+from typing import Optional, Sequence, Tuple
 
-from can_seeker.camera_geometry import CameraPose, camera_pose_from_mount, can_range_bearing
+from can_seeker.camera_geometry import (CameraPose, camera_pose_from_mount, can_image_box,
+                                        can_range_bearing)
 from can_seeker.camera_mount import CameraMount
 from can_seeker.params import Param
 from can_seeker.vision.detector import DETECTOR_PARAMS, Blob
+
+SIZE_PREFERENCE_EXPONENT = 0.25
+"""Candidates are ranked by confidence x (area / largest area) ** this: among equally
+can-like blobs the larger wins, but a can-like blob beats a larger shapeless one."""
 
 PARAMS = DETECTOR_PARAMS + (
     Param('base_frame', 'base_link', 'frame on the floor (z up) in which the camera pose is '
@@ -18,8 +30,12 @@ PARAMS = DETECTOR_PARAMS + (
           'camera pose (m); 0 = unknown: range and bearing are NaN without TF', 0.0, 5.0),
     Param('camera_pitch_deg', 25.0, 'fallback camera pitch below the horizon when TF has no '
           'camera pose (deg, positive down)', -89.0, 89.0),
-    Param('can_diameter', 0.066, 'diameter of the can, for the near surface and the width '
-          'fallback range (m)', 0.001, 1.0),
+    Param('can_diameter', 0.066, 'diameter of the can, for the near surface, the width '
+          'fallback range and the size check (m)', 0.001, 1.0),
+    Param('can_height', 0.122, 'height of the can, for the size check (m)', 0.001, 2.0),
+    Param('size_tolerance', 0.3, 'size check: confidence is kept while the blob\'s width and '
+          'height are within this fraction of the can\'s at its floor range, and falls to 0 at '
+          'twice it (1)', 0.01, 5.0),
     Param('show', False, 'open OpenCV windows (origin, result, edges); only when the display '
           'can be opened, headless with a warning otherwise'),
     Param('window_width', 640, 'width of each ~show window (px): images are scaled to it, '
@@ -35,12 +51,27 @@ def fallback_pose(camera_height_m: float, camera_pitch_deg: float) -> Optional[C
 
 
 @dataclass(frozen=True)
+class CanModel:
+    """Size of the can (m) and the relative size error the geometry check tolerates (1)."""
+
+    diameter_m: float = 0.066
+    height_m: float = 0.122
+    size_tolerance: float = 0.3
+
+    @classmethod
+    def from_values(cls, values):
+        """From an object with can_diameter, can_height and size_tolerance (the node's PARAMS)."""
+        return cls(values.can_diameter, values.can_height, values.size_tolerance)
+
+
+@dataclass(frozen=True)
 class CanReport:
     """What one frame says about the can: the fields of can_seeker/CanDetection.
 
     Pixel values are 0 when not found; range (m) and bearing (rad, left positive) are NaN when
     not found or when the camera geometry is unknown. ``range_method`` is 'floor', 'width' or
-    'none' (see camera_geometry.can_range_bearing).
+    'none' (see camera_geometry.can_range_bearing). ``confidence`` (0-1) is that of the blob
+    reported, ``confidences`` one per candidate, ``chosen`` the reported candidate's index.
     """
 
     found: bool
@@ -53,16 +84,52 @@ class CanReport:
     range_m: float
     bearing_rad: float
     range_method: str
+    confidence: float = 0.0
+    confidences: Tuple[float, ...] = ()
+    chosen: Optional[int] = None
 
 
-def can_report(blob: Optional[Blob], image_width: int, image_height: int, pose, intrinsics,
-               can_diameter_m: float) -> CanReport:
-    """Report of a frame's largest red blob (None: not found) seen with this camera geometry."""
-    if blob is None:
+def geometry_score(blob: Blob, pose, intrinsics, range_m: float, bearing: float,
+                   method: str, can: CanModel) -> float:
+    """1 when the blob has the size of the can at its floor range (within the tolerance),
+    falling to 0 at twice the tolerance; 1 when that cannot be checked (no geometry, or a
+    range from the width itself)."""
+    if method != 'floor' or pose is None or intrinsics is None:
+        return 1.0
+    expected = can_image_box(pose, intrinsics, range_m, bearing, can.diameter_m, can.height_m)
+    if expected is None:
+        return 1.0
+    errors = [0.0]
+    if 'left' not in blob.cut and 'right' not in blob.cut and expected[0] > 0:
+        errors.append(abs(blob.width / expected[0] - 1.0))
+    if 'top' not in blob.cut and expected[1] > 0:
+        errors.append(abs(blob.height / expected[1] - 1.0))
+    error = max(errors)
+    tolerance = can.size_tolerance
+    return min(1.0, max(0.0, 2.0 - error / tolerance))
+
+
+def can_report(candidates: Sequence[Blob], image_width: int, image_height: int, pose,
+               intrinsics, can: CanModel) -> CanReport:
+    """Report of a frame's red blobs (largest first; empty: not found) seen with this camera
+    geometry: the most can-like blob, its range, bearing and confidence."""
+    if not candidates:
         return CanReport(False, 0.0, 0.0, 0.0, (0, 0, 0, 0), image_width, image_height,
                          math.nan, math.nan, 'none')
-    bbox = (blob.x, blob.y, blob.width, blob.height)
-    range_m, bearing, method = can_range_bearing(
-        pose, intrinsics, (blob.centroid_x, blob.centroid_y), bbox, can_diameter_m)
-    return CanReport(True, blob.centroid_x, blob.centroid_y, blob.area, bbox, image_width,
-                     image_height, range_m, bearing, method)
+    largest_area = max(blob.area for blob in candidates)
+    measured = []
+    for blob in candidates:
+        bbox = (blob.x, blob.y, blob.width, blob.height)
+        range_m, bearing, method = can_range_bearing(
+            pose, intrinsics, (blob.centroid_x, blob.centroid_y), bbox, can.diameter_m)
+        confidence = blob.shape_score * geometry_score(blob, pose, intrinsics, range_m, bearing,
+                                                       method, can)
+        measured.append((confidence, range_m, bearing, method))
+    chosen = max(range(len(candidates)), key=lambda index: measured[index][0] * (
+        candidates[index].area / largest_area) ** SIZE_PREFERENCE_EXPONENT)
+    blob = candidates[chosen]
+    confidence, range_m, bearing, method = measured[chosen]
+    return CanReport(True, blob.centroid_x, blob.centroid_y, blob.area,
+                     (blob.x, blob.y, blob.width, blob.height), image_width, image_height,
+                     range_m, bearing, method, confidence,
+                     tuple(entry[0] for entry in measured), chosen)

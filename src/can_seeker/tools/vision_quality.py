@@ -1,0 +1,102 @@
+"""vision_quality: precision and recall of the red detector on the labelled set.
+
+Builds the set of evaluation/labelled_images.py (photographs from Debian's opencv-doc,
+python3-skimage and matplotlib sample data; cans rendered in the pybullet world under several
+lights) and prints, for the detector at its defaults and for the previous detector's HSV box
+(hue 168-6, saturation >= 130, value >= 50, largest blob), how well ``found`` answers "is there
+a red object, and where", and how well ``found and confidence >= min_confidence`` answers
+"this is the can". Images it gets wrong are listed.
+"""
+import argparse
+import sys
+
+import cv2
+
+from can_seeker.camera_geometry import camera_pose_from_mount
+from can_seeker.camera_mount import CameraMount
+from can_seeker.control.controller import PARAMS as CONTROLLER_PARAMS
+from can_seeker.evaluation.labelled_images import (Decision, build_set, can_scores,
+                                                   detector_decisions, found_scores, in_boxes)
+from can_seeker.params import defaults
+from can_seeker.sim.world import CameraSpec, World, package_urdf_path
+from can_seeker.vision.detector import red_blobs
+
+PREVIOUS_HSV_RANGES = (((168, 130, 50), (179, 255, 255)), ((0, 130, 50), (6, 255, 255)))
+PREVIOUS_KERNELS = (cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)),
+                    cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5)))
+
+
+def previous_decisions(images):
+    """The previous detector: one HSV box, opening 3 px, closing 5 px, the largest blob."""
+    open_kernel, close_kernel = PREVIOUS_KERNELS
+    decisions = []
+    for image in images:
+        hsv = cv2.cvtColor(image.bgr, cv2.COLOR_BGR2HSV)
+        mask = cv2.bitwise_or(*[cv2.inRange(hsv, low, high) for low, high in PREVIOUS_HSV_RANGES])
+        mask = cv2.morphologyEx(cv2.morphologyEx(mask, cv2.MORPH_OPEN, open_kernel),
+                                cv2.MORPH_CLOSE, close_kernel)
+        blobs = red_blobs(mask, max(1.0, 0.0005 * mask.size))
+        decisions.append(Decision((blobs[0].centroid_x, blobs[0].centroid_y) if blobs else None,
+                                  1.0))
+    return decisions
+
+
+def wrong(images, decisions, min_confidence):
+    """Names of images a decision gets wrong, with what it said."""
+    lines = []
+    for image, decision in zip(images, decisions):
+        point = decision.point
+        right_place = point is not None and in_boxes(point[0], point[1], image.boxes)
+        if image.label == 'red' and not right_place:
+            lines.append('missed or elsewhere: %s (%s) at %s' % (image.name, image.note, point))
+        elif image.label != 'red' and point is not None:
+            lines.append('false red: %s (%s)' % (image.name, image.note))
+        if image.is_can and (not right_place or decision.confidence < min_confidence):
+            lines.append('can not accepted: %s, confidence %.2f' % (image.name,
+                                                                    decision.confidence))
+    return lines
+
+
+def scores_row(name, subset, scores):
+    return '| %s | %s | %d | %d | %d | %.2f | %.2f | %d / %d |' % (
+        name, subset, scores.true_positives, scores.false_positives, scores.false_negatives,
+        scores.precision, scores.recall, scores.near_red_false_positives, scores.near_red_images)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--min-confidence', type=float,
+                        default=defaults(CONTROLLER_PARAMS).min_confidence,
+                        help='can_stopper ~min_confidence (default %(default)s)')
+    parser.add_argument('--list', action='store_true', help='list the images each gets wrong')
+    args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    camera = CameraSpec(320, 240, 45.0, CameraMount(0.25, 25.0))
+    with World(package_urdf_path(), camera) as world:
+        images = build_set(world, camera_pose_from_mount(camera.mount), camera.intrinsics)
+    photos = [image for image in images if image.pose is None]
+    renders = [image for image in images if image.pose is not None]
+    print('Labelled set: %d photographs (%d red, %d near-red, %d none), %d renders (%d red cans, '
+          '%d near-red cans, %d empty floors)' % (
+              len(photos), sum(image.label == 'red' for image in photos),
+              sum(image.label == 'near-red' for image in photos),
+              sum(image.label == 'none' for image in photos), len(renders),
+              sum(image.is_can for image in renders),
+              sum(image.label == 'near-red' for image in renders),
+              sum(image.label == 'none' for image in renders)))
+    print('| decision | images | TP | FP | FN | precision | recall | near-red FP |')
+    print('|---|---|---|---|---|---|---|---|')
+    results = (('previous HSV box', previous_decisions), ('chromaticity', detector_decisions))
+    decisions = {name: function(images) for name, function in results}
+    for name, _ in results:
+        for subset_name, subset in (('photographs', photos), ('renders', renders)):
+            chosen = [decisions[name][images.index(image)] for image in subset]
+            print(scores_row('found, ' + name, subset_name, found_scores(subset, chosen)))
+    print(scores_row('the can: found, previous HSV box (no confidence)', 'all',
+                     can_scores(images, decisions['previous HSV box'], 0.0)))
+    print(scores_row('the can: found and confidence >= %.2f' % args.min_confidence, 'all',
+                     can_scores(images, decisions['chromaticity'], args.min_confidence)))
+    if args.list:
+        for name, _ in results:
+            print('\n%s:' % name)
+            for line in wrong(images, decisions[name], args.min_confidence):
+                print('- ' + line)
