@@ -11,14 +11,16 @@ from can_seeker.msg import CanDetection
 FRAME = 'camera_optical_frame'
 
 
-def detection(range_m, bearing_rad):
-    """A found can at ``range_m`` (camera to near surface) and ``bearing_rad``."""
+def detection(range_m, bearing_rad, confidence=1.0):
+    """A found can at ``range_m`` (camera to near surface) and ``bearing_rad``, that the
+    detector is ``confidence`` sure is the can."""
     message = CanDetection()
     message.header.stamp = rospy.Time.now()
     message.header.frame_id = FRAME
     message.found = True
     message.range = range_m
     message.bearing = bearing_rad
+    message.confidence = confidence
     message.image_width, message.image_height = 320, 240
     return message
 
@@ -56,12 +58,12 @@ class Harness:
             time.sleep(0.05)
         return False
 
-    def feed(self, range_m, bearing_rad, duration_s, rate_hz=15.0):
+    def feed(self, range_m, bearing_rad, duration_s, rate_hz=15.0, confidence=1.0):
         """Publish the same detection for ``duration_s``; return when the last one was sent."""
         end = time.monotonic() + duration_s
         last = None
         while time.monotonic() < end:
-            self.detection_pub.publish(detection(range_m, bearing_rad))
+            self.detection_pub.publish(detection(range_m, bearing_rad, confidence))
             last = time.monotonic()
             time.sleep(1.0 / rate_hz)
         return last
