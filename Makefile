@@ -29,6 +29,7 @@ shell: setup
 
 bench: setup
 	@bash tools/with_env.sh rosrun can_seeker bench_vision
+	@bash tools/with_env.sh rosrun can_seeker bench_node
 	@bash tools/with_env.sh rosrun can_seeker bench_sim
 
 clean:

@@ -8,6 +8,7 @@ from ``~camera_height``/``~camera_pitch_deg``.
 """
 import time
 
+import numpy as np
 import rospy
 import tf2_ros
 from dynamic_reconfigure.server import Server
@@ -29,6 +30,9 @@ IMAGE_BUFF_SIZE = 2 ** 24
 """Subscriber socket buffer (bytes): with queue_size=1 it keeps only the newest frame."""
 
 ERROR_PERIOD_S = 5.0
+POSE_REFRESH_S = 1.0
+"""A camera pose found in TF is reused for this long (wall time): a camera mount is static,
+and a TF lookup per frame costs more than the rest of the geometry."""
 
 
 def image_msg(header, array, encoding):
@@ -60,6 +64,8 @@ class ImageConverterNode:
         self.can_model = CanModel.from_values(self.config)
         self.fallback_pose = fallback_pose(self.config.camera_height, self.config.camera_pitch_deg)
         self.intrinsics = None
+        self.camera_poses = {}
+        self.annotated_buffer = None
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.display = self._make_display(self.config.show)
@@ -112,20 +118,30 @@ class ImageConverterNode:
                                   'image is %dx%d: range and bearing are NaN' % (
                                       intrinsics.width, intrinsics.height, msg.width, msg.height))
             intrinsics = None
+        return self.camera_pose(msg.header.frame_id.lstrip('/')), intrinsics
+
+    def camera_pose(self, frame_id):
+        """The optical frame's pose in ~base_frame from TF (looked up again after
+        POSE_REFRESH_S), else the fallback from the parameters (None: unknown)."""
+        now = time.monotonic()
+        cached = self.camera_poses.get(frame_id)
+        if cached is not None and now - cached[1] < POSE_REFRESH_S:
+            return cached[0]
         try:
-            transform = self.tf_buffer.lookup_transform(
-                self.config.base_frame, msg.header.frame_id.lstrip('/'), rospy.Time(0)).transform
+            transform = self.tf_buffer.lookup_transform(self.config.base_frame, frame_id,
+                                                        rospy.Time(0)).transform
             pose = camera_pose_from_transform(
                 (transform.translation.x, transform.translation.y, transform.translation.z),
                 (transform.rotation.x, transform.rotation.y, transform.rotation.z,
                  transform.rotation.w))
         except (tf2_ros.TransformException, ValueError) as error:
-            pose = self.fallback_pose
             rospy.logwarn_throttle(ERROR_PERIOD_S, 'image_converter: no camera pose from TF '
                                    '(%s); %s' % (error, 'using ~camera_height and '
-                                                 '~camera_pitch_deg' if pose else
+                                                 '~camera_pitch_deg' if self.fallback_pose else
                                                  'range and bearing are NaN'))
-        return pose, intrinsics
+            return self.fallback_pose
+        self.camera_poses[frame_id] = (pose, now)
+        return pose
 
     def on_image(self, msg):
         try:
@@ -154,8 +170,12 @@ class ImageConverterNode:
             self.edges_pub.publish(image_msg(msg.header, result.edges, 'mono8'))
         if self.display is None and not want_annotated:
             return
+        if self.annotated_buffer is None or self.annotated_buffer.shape != bgr.shape:
+            self.annotated_buffer = np.empty(bgr.shape, np.uint8)
+        # The display thread keeps what it is given: it gets an image of its own.
         annotated = draw_annotation(bgr, result, report.confidences, report.chosen,
-                                    report.range_m)
+                                    report.range_m,
+                                    out=self.annotated_buffer if self.display is None else None)
         if want_annotated:
             self.annotated_pub.publish(image_msg(msg.header, annotated, 'bgr8'))
         if self.display is not None:

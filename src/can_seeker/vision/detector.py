@@ -82,7 +82,7 @@ class MaskScratch:
     def __init__(self, height: int, width: int):
         self.shape = (height, width)
         self.channels = [np.empty((height, width), np.uint8) for _ in range(3)]
-        self.margins = [np.empty((height, width), np.uint8) for _ in range(3)]
+        self.margins = [np.empty((height, width), np.uint8) for _ in range(4)]
         self.mask = np.empty((height, width), np.uint8)
 
 
@@ -98,18 +98,19 @@ def red_mask(bgr: np.ndarray, settings, scratch: Optional[MaskScratch] = None) -
     if scratch is None or scratch.shape != (height, width):
         scratch = MaskScratch(height, width)
     blue, green, red = scratch.channels
-    green_margin, blue_margin, orange_margin = scratch.margins
+    green_margin, blue_margin, orange_margin, value_margin = scratch.margins
     cv2.split(bgr, scratch.channels)
-    # Each margin is saturate(ratio * red - channel + 1): nonzero where the pixel passes.
+    # Each margin is nonzero exactly where the pixel passes that test: saturate(ratio * red -
+    # channel + 1), saturate(red - value_min + 1).
     cv2.addWeighted(red, settings.green_max_ratio, green, -1.0, 1.0, dst=green_margin)
     cv2.addWeighted(red, settings.blue_max_ratio, blue, -1.0, 1.0, dst=blue_margin)
     cv2.addWeighted(red, settings.orange_max_ratio, blue, 1.0, 1.0, dst=orange_margin)
     cv2.subtract(orange_margin, green, dst=orange_margin)
+    cv2.subtract(red, settings.value_min - 1.0, dst=value_margin)
     cv2.min(green_margin, blue_margin, dst=green_margin)
+    cv2.min(orange_margin, value_margin, dst=orange_margin)
     cv2.min(green_margin, orange_margin, dst=green_margin)
-    cv2.threshold(green_margin, 0, 255, cv2.THRESH_BINARY, dst=green_margin)
-    cv2.threshold(red, settings.value_min - 1, 255, cv2.THRESH_BINARY, dst=blue_margin)
-    return cv2.bitwise_and(green_margin, blue_margin, dst=scratch.mask)
+    return cv2.threshold(green_margin, 0, 255, cv2.THRESH_BINARY, dst=scratch.mask)[1]
 
 
 @dataclass(frozen=True)
@@ -172,8 +173,8 @@ def centroid_from_moments(moments):
     return moments['m10'] / m00, moments['m01'] / m00
 
 
-def _kernel(side_px):
-    return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (side_px, side_px)) if side_px > 1 else None
+def _kernel(side_px, shape=cv2.MORPH_ELLIPSE):
+    return cv2.getStructuringElement(shape, (side_px, side_px)) if side_px > 1 else None
 
 
 class RedCanDetector:
@@ -191,8 +192,10 @@ class RedCanDetector:
     def settings(self, settings: DetectorSettings):
         """Replace all thresholds at once: a frame in progress in another thread keeps the
         settings and kernels it started with."""
+        # A square closing kernel costs half an elliptic one (OpenCV separates it) and fills
+        # the same highlights; the small opening kernel stays round.
         self._config = (settings, _kernel(settings.open_kernel_px),
-                        _kernel(settings.close_kernel_px))
+                        _kernel(settings.close_kernel_px, cv2.MORPH_RECT))
 
     def _buffers(self, shape):
         if shape[:2] != self._shape:

@@ -109,6 +109,16 @@ def geometry_score(blob: Blob, pose, intrinsics, range_m: float, bearing: float,
     return min(1.0, max(0.0, 2.0 - error / tolerance))
 
 
+def _measure(blob: Blob, pose, intrinsics, can: CanModel):
+    """(confidence, (range_m, bearing_rad, range_method)) of one blob."""
+    range_m, bearing, method = can_range_bearing(
+        pose, intrinsics, (blob.centroid_x, blob.centroid_y),
+        (blob.x, blob.y, blob.width, blob.height), can.diameter_m)
+    confidence = blob.shape_score * geometry_score(blob, pose, intrinsics, range_m, bearing,
+                                                   method, can)
+    return confidence, (range_m, bearing, method)
+
+
 def can_report(candidates: Sequence[Blob], image_width: int, image_height: int, pose,
                intrinsics, can: CanModel) -> CanReport:
     """Report of a frame's red blobs (largest first; empty: not found) seen with this camera
@@ -119,16 +129,15 @@ def can_report(candidates: Sequence[Blob], image_width: int, image_height: int, 
     largest_area = max(blob.area for blob in candidates)
     measured = []
     for blob in candidates:
-        bbox = (blob.x, blob.y, blob.width, blob.height)
-        range_m, bearing, method = can_range_bearing(
-            pose, intrinsics, (blob.centroid_x, blob.centroid_y), bbox, can.diameter_m)
-        confidence = blob.shape_score * geometry_score(blob, pose, intrinsics, range_m, bearing,
-                                                       method, can)
-        measured.append((confidence, range_m, bearing, method))
+        # A shapeless blob has confidence 0 whatever its size: its geometry waits until chosen.
+        measured.append(_measure(blob, pose, intrinsics, can) if blob.shape_score > 0.0
+                        else (0.0, None))
     chosen = max(range(len(candidates)), key=lambda index: measured[index][0] * (
         candidates[index].area / largest_area) ** SIZE_PREFERENCE_EXPONENT)
     blob = candidates[chosen]
-    confidence, range_m, bearing, method = measured[chosen]
+    confidence, geometry = measured[chosen]
+    range_m, bearing, method = geometry if geometry is not None else _measure(
+        blob, pose, intrinsics, can)[1]
     return CanReport(True, blob.centroid_x, blob.centroid_y, blob.area,
                      (blob.x, blob.y, blob.width, blob.height), image_width, image_height,
                      range_m, bearing, method, confidence,
