@@ -34,7 +34,7 @@ SCAN_PARAMS = (
     Param('exclude_can', True, 'the red can (the detector\'s largest red blob with the red '
           'stacked on it, its lid, base and band) is the target, not an obstacle'),
 )
-CAN_MARGIN = 0.2
+CAN_MARGIN = 0.25
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
 width sideways, so a can's silver rims and white band are not obstacles either."""
 
