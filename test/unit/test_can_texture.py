@@ -72,7 +72,7 @@ def range_errors(texture):
     """Relative range errors of the detector's floor-ray range to the can's near surface at
     0.3-3 m and three bearings, rendered with TinyRenderer (None where the can was missed)."""
     from can_seeker.vision.detector import RedCanDetector
-    from can_seeker.vision.report import can_report, fallback_pose
+    from can_seeker.vision.report import CanModel, can_report, fallback_pose
     camera = CameraSpec(320, 240, 45.0, CameraMount(0.25, 25.0))
     pose, detector = fallback_pose(0.25, 25.0), RedCanDetector()
     errors = []
@@ -82,9 +82,10 @@ def range_errors(texture):
                 centre_m = range_m + 0.033
                 world.place_can(0.12 + centre_m * np.cos(bearing), centre_m * np.sin(bearing))
                 world.step()
-                blob = detector.detect(world.render('bgr8')).blob
-                report = can_report(blob, 320, 240, pose, camera.intrinsics, 0.066)
-                errors.append((report.range_m - range_m) / range_m if blob else None)
+                result = detector.detect(world.render('bgr8'))
+                report = can_report(result.candidates, 320, 240, pose, camera.intrinsics,
+                                    CanModel())
+                errors.append((report.range_m - range_m) / range_m if report.found else None)
     return errors
 
 
