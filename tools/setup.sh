@@ -85,7 +85,6 @@ if [ "$(readlink "$CAN_SEEKER_WS/src/can_seeker" 2>/dev/null)" != "$CAN_SEEKER_R
 fi
 build_sum=$( { printf '%s\n' "$CAN_SEEKER_REPO" "$CAN_SEEKER_VENV" "$ros_setup";
   find package.xml CMakeLists.txt setup.py msg srv cfg scripts test test/package -maxdepth 1 -type f | LC_ALL=C sort;
-  find src -type d | LC_ALL=C sort;
   cat package.xml CMakeLists.txt setup.py msg/* srv/* cfg/* src/can_seeker/vision/detector.py src/can_seeker/params.py 2>/dev/null; } | sha1sum | cut -d' ' -f1)
 build_stamp="$CAN_SEEKER_WS/.build.sha1"
 if [ ! -f "$CAN_SEEKER_WS/devel/setup.bash" ] || [ "$(cat "$build_stamp" 2>/dev/null)" != "$build_sum" ]; then
