@@ -4,13 +4,16 @@ Subscribes ``image`` (queue_size=1, large buff_size: always the newest frame) an
 ``camera_info``; publishes ``camera_scan`` (sensor_msgs/LaserScan in ``~scan_frame``, stamped
 with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``~obstacles``
 (mono8). The camera pose comes from TF (``~scan_frame`` <- image frame), cached and refreshed
-once a second, else from ``~camera_height``/``~camera_pitch_deg``.
+once a second, else from ``~camera_height``/``~camera_pitch_deg``. ``~reset`` (std_srvs/Empty)
+forgets the learned floor model, so a new trial does not inherit the last one's.
 """
+import threading
 import time
 
 import rospy
 import tf2_ros
 from sensor_msgs.msg import CameraInfo, Image, LaserScan
+from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 from can_seeker.nodes.image_converter_node import IMAGE_BUFF_SIZE, image_msg
@@ -43,14 +46,21 @@ class ObstacleScanNode:
         self.pose_frame = None
         self.pose_time = None
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
+        self.scanner_lock = threading.Lock()
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.scan_pub = rospy.Publisher('camera_scan', LaserScan, queue_size=1)
         self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
         self.obstacles_pub = rospy.Publisher('~obstacles', Image, queue_size=1)
+        rospy.Service('~reset', Empty, self.on_reset)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
         rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE,
                          tcp_nodelay=True)
+
+    def on_reset(self, _request):
+        with self.scanner_lock:
+            self.scanner.floor.reset()
+        return EmptyResponse()
 
     def on_camera_info(self, msg):
         try:
@@ -109,7 +119,8 @@ class ObstacleScanNode:
         want_annotated = self.annotated_pub.get_num_connections() > 0
         intrinsics = self.camera_intrinsics(msg)
         pose = self.camera_pose(msg.header.frame_id.lstrip('/')) if intrinsics else None
-        result = self.scanner.scan(bgr, pose, intrinsics)
+        with self.scanner_lock:
+            result = self.scanner.scan(bgr, pose, intrinsics)
         if result.ranges is not None:
             self.publish_scan(msg.header.stamp, result.ranges)
         elif intrinsics is not None and pose is not None:

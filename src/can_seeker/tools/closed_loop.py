@@ -35,7 +35,7 @@ COMMAND_TOPIC = '/cmd_vel_stamped'
 LIVE_TIMEOUT_S = 60.0
 SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/new_world', '/sim/pause_physics',
             '/sim/unpause_physics',
-            '/can_stopper/reset')
+            '/can_stopper/reset', '/obstacle_scan/reset')
 POLL_S = 0.01
 SETTLE_S = 0.5
 """Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
@@ -213,6 +213,8 @@ class TrialRunner:
         self.pause = rospy.ServiceProxy('/sim/pause_physics', Empty, persistent=True)
         self.unpause = rospy.ServiceProxy('/sim/unpause_physics', Empty, persistent=True)
         self.reset_controller = rospy.ServiceProxy('/can_stopper/reset', Empty, persistent=True)
+        self.reset_obstacle_scan = rospy.ServiceProxy('/obstacle_scan/reset', Empty,
+                                                      persistent=True)
         self.new_world_service = rospy.ServiceProxy('/sim/new_world', NewWorld)
 
     def new_world(self, seed):
@@ -242,6 +244,7 @@ class TrialRunner:
         start_s = reset.stamp.to_sec()
         self.monitor.start(start_s)
         self.reset_controller()
+        self.reset_obstacle_scan()
         self.unpause()
         return start_s
 
