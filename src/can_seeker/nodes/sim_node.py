@@ -50,6 +50,8 @@ HOLD_POLL_S = 0.05
 PAUSED_POLL_S = 0.002
 """While paused, calls are checked this often (s, wall)."""
 STAMPED_COMMAND_TOPIC = 'cmd_vel_stamped'
+TRUTH_QUEUE_SIZE = 1000
+"""Outgoing queue of /odom and the ground-truth topics (messages; about 20 s of sim time)."""
 
 
 def _transform(stamp, parent, child, translation, rotation_xyzw) -> TransformStamped:
@@ -107,10 +109,13 @@ class SimNode:
         self._clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
         self._image_pub = rospy.Publisher('camera/image_raw', Image, queue_size=2)
         self._info_pub = rospy.Publisher('camera/camera_info', CameraInfo, queue_size=2)
-        self._odom_pub = rospy.Publisher('odom', Odometry, queue_size=10)
-        self._can_pose_pub = rospy.Publisher('~can_pose', PoseStamped, queue_size=10)
-        self._contact_pub = rospy.Publisher('~contact', Bool, queue_size=10)
-        self._contacts_pub = rospy.Publisher('~contacts', Contacts, queue_size=10)
+        # Ground truth is small and judged message by message: a short outgoing queue drops
+        # part of the path when the sim runs faster than real time on a busy machine.
+        self._odom_pub = rospy.Publisher('odom', Odometry, queue_size=TRUTH_QUEUE_SIZE)
+        self._can_pose_pub = rospy.Publisher('~can_pose', PoseStamped,
+                                             queue_size=TRUTH_QUEUE_SIZE)
+        self._contact_pub = rospy.Publisher('~contact', Bool, queue_size=TRUTH_QUEUE_SIZE)
+        self._contacts_pub = rospy.Publisher('~contacts', Contacts, queue_size=TRUTH_QUEUE_SIZE)
         self._world_pub = rospy.Publisher('~world', String, queue_size=1, latch=True)
         self._scan_pub = rospy.Publisher('scan', LaserScan, queue_size=5)
         self._scan = self._scan_template(self._sim.lidar, config.scan_rate)
