@@ -27,6 +27,7 @@ from tqdm import tqdm
 
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
+from can_seeker.control.controller import PARAMS as CONTROL_PARAMS
 from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
 from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
@@ -35,8 +36,10 @@ from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW
 from can_seeker.evaluation.trials import Criteria, summarise, summary_table
 
 SIM = defaults(SIM_PARAMS)
+CONTROL = defaults(CONTROL_PARAMS)
 WORLD_OPTIONS = ('world', 'obstacles', 'room_size', 'floor_rgba', 'wall_rgba', 'obstacle_rgba',
                  'can_texture')
+CONTROL_OPTIONS = ('scan_topic',)
 
 
 def parse_args(argv):
@@ -71,6 +74,9 @@ def parse_args(argv):
     parser.add_argument('--wall-rgba', default=SIM.wall_rgba, help='wall colour "R G B A"')
     parser.add_argument('--obstacle-rgba', default=SIM.obstacle_rgba,
                         help='obstacle colour "R G B A"')
+    parser.add_argument('--scan-topic', default=CONTROL.scan_topic,
+                        help='obstacle scan can_stopper drives by: /camera_scan (the camera), '
+                        '/scan (the simulated lidar), or "" for none')
     parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=0.0,
@@ -128,7 +134,7 @@ def launch_args(args):
             'room_width': room_width, 'floor_rgba': args.floor_rgba,
             'wall_rgba': args.wall_rgba, 'obstacle_rgba': args.obstacle_rgba,
             'can_texture': args.can_texture,
-            'lockstep': str(args.lockstep).lower()}
+            'scan_topic': args.scan_topic, 'lockstep': str(args.lockstep).lower()}
 
 
 def settings(args):
@@ -136,7 +142,7 @@ def settings(args):
     return {name: getattr(args, name) for name in (
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
         'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep', 'shard')
-        + WORLD_OPTIONS}
+        + WORLD_OPTIONS + CONTROL_OPTIONS}
 
 
 def run_trial(runner, args, index):
@@ -183,7 +189,7 @@ def child_command(args, shard, json_path):
     command = [sys.executable, os.path.abspath(sys.argv[0])]
     for name in ('trials', 'seed', 'min_distance', 'max_distance', 'width', 'height',
                  'camera_height', 'camera_pitch', 'can_rgba', 'time_limit',
-                 'real_time_factor') + WORLD_OPTIONS:
+                 'real_time_factor') + WORLD_OPTIONS + CONTROL_OPTIONS:
         command += ['--' + name.replace('_', '-'), str(getattr(args, name))]
     if not args.lockstep:
         command.append('--no-lockstep')
@@ -273,12 +279,12 @@ def main():
         sys.exit(130)
     summary = summarise(results, criteria)
     print('\nevaluate: %d trials, %s world, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, '
-          'can %s %s' % (len(results), _world_text(record_settings),
+          'can %s %s, scan %s' % (len(results), _world_text(record_settings),
                       record_settings['min_distance'], record_settings['max_distance'],
                       record_settings['width'], record_settings['height'],
                       record_settings['camera_height'], record_settings['camera_pitch'],
                       record_settings.get('can_texture', 'plain'),
-                      record_settings['can_rgba']))
+                      record_settings['can_rgba'], record_settings.get('scan_topic') or 'none'))
     print(summary_table(summary))
     if args.json:
         record = {'settings': record_settings, 'summary': summary,
