@@ -14,6 +14,7 @@ import tf2_ros
 from dynamic_reconfigure.server import Server
 from sensor_msgs.msg import CameraInfo, Image
 
+from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 from can_seeker.cfg import ImageConverterConfig
 from can_seeker.gui.display_check import OPENCV_WINDOW_PROBE, display_problem
@@ -202,6 +203,7 @@ class ImageConverterNode:
 
 
 def main():
+    reuse_freed_memory()
     rospy.init_node('image_converter')
     warn_unless_remapped('image', 'camera_info')
     ImageConverterNode()

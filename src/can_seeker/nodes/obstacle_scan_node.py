@@ -15,6 +15,7 @@ import tf2_ros
 from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from std_srvs.srv import Empty, EmptyResponse
 
+from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 from can_seeker.nodes.image_converter_node import IMAGE_BUFF_SIZE, image_msg
 from can_seeker.params import read_params
@@ -152,6 +153,7 @@ class ObstacleScanNode:
 
 
 def main():
+    reuse_freed_memory()
     rospy.init_node('obstacle_scan')
     ObstacleScanNode()
     rospy.spin()

@@ -4,7 +4,8 @@ In one run, on its own master (free port), the same published stream feeds side 
 opencv_apps' chain hsv_color_filter -> contour_moments + edge_detection (three C++ nodes, Debian
 ``ros-opencv-apps``), image_converter with every output subscribed (detection, annotated, mask,
 edges), image_converter with only its detection subscribed, and a bare rospy node that only
-receives the images and acknowledges each with an empty message. Each process's CPU time
+receives the images (subscribed and with the allocator set as image_converter does) and
+acknowledges each with an empty message. Each process's CPU time
 (utime + stime of /proc/<pid>/stat, all threads) over the frames it answered (its output
 messages counted) gives milliseconds per frame; a chain's is the sum of its processes'. The run
 is repeated and the load average printed: on 2 shared cores wall-clock latency says little,
@@ -26,6 +27,7 @@ from geometry_msgs.msg import TransformStamped
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Empty
 
+from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
 from can_seeker.tools.bench_vision import floor_scene
@@ -63,8 +65,10 @@ def free_port():
 
 
 def receiver_main():
-    """The bare receiver: a rospy node that takes the images as image_converter does and
-    answers each with an empty message (so its frames can be counted like the others')."""
+    """The bare receiver: a rospy node that takes the images as image_converter does (same
+    subscriber options, same allocator setting) and answers each with an empty message (so its
+    frames can be counted like the others')."""
+    reuse_freed_memory()
     rospy.init_node('bare_receiver')
     ack = rospy.Publisher('~received', Empty, queue_size=10)
     rospy.Subscriber('image', Image, lambda _msg: ack.publish(Empty()), queue_size=1,
