@@ -342,14 +342,42 @@ CONTOUR_BGR = (0, 255, 255)
 OTHER_CONTOUR_BGR = (255, 0, 255)
 BOX_BGR = (255, 128, 0)
 CENTROID_BGR = (0, 255, 0)
-TEXT_BGR = (255, 255, 255)
+FONT = cv2.FONT_HERSHEY_SIMPLEX
+
+
+def _disc(diameter_px):
+    return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (diameter_px, diameter_px))
 
 
 def _put_text(image, text, origin, scale, thickness):
-    cv2.putText(image, text, origin, cv2.FONT_HERSHEY_SIMPLEX, scale, (0, 0, 0), thickness + 2,
+    """White text ``thickness`` px wide with a black outline 1 px around it, anti-aliased.
+
+    The letters are drawn once, 1 px wide, into a patch around the text; grey-level dilation
+    by a disc widens them to the fill and the outline (thick anti-aliased strokes directly
+    cost ten times as much: 0.2 ms for the range label at 640x480). Clipped to the image.
+    """
+    (width, height), baseline = cv2.getTextSize(text, FONT, scale, thickness)
+    pad = thickness + 2
+    x0, y0 = max(0, origin[0] - pad), max(0, origin[1] - height - pad)
+    x1 = min(image.shape[1], origin[0] + width + pad)
+    y1 = min(image.shape[0], origin[1] + baseline + pad)
+    if x1 <= x0 or y1 <= y0:
+        return
+    strokes = np.zeros((y1 - y0, x1 - x0), np.uint8)
+    cv2.putText(strokes, text, (origin[0] - x0, origin[1] - y0), FONT, scale, 255, 1,
                 cv2.LINE_AA)
-    cv2.putText(image, text, origin, cv2.FONT_HERSHEY_SIMPLEX, scale, TEXT_BGR, thickness,
-                cv2.LINE_AA)
+    # A 1 px line covers each pixel only in part: doubled, its middle is opaque.
+    cv2.add(strokes, strokes, dst=strokes)
+    fill = cv2.dilate(strokes, _disc(thickness)) if thickness > 1 else strokes
+    # A square reaches into the corners of the letters as a round pen of that width does.
+    outline = cv2.dilate(strokes, np.ones((thickness + 2, thickness + 2), np.uint8))
+    # Alpha blending: black where the outline covers, then white where the fill does.
+    patch = image[y0:y1, x0:x1]
+    cv2.multiply(patch, cv2.cvtColor(cv2.bitwise_not(outline), cv2.COLOR_GRAY2BGR), dst=patch,
+                 scale=1.0 / 255.0)
+    fill_bgr = cv2.cvtColor(fill, cv2.COLOR_GRAY2BGR)
+    cv2.multiply(patch, cv2.bitwise_not(fill_bgr), dst=patch, scale=1.0 / 255.0)
+    cv2.add(patch, fill_bgr, dst=patch)
 
 
 def draw_annotation(bgr: np.ndarray, result: VisionResult, confidences, chosen: Optional[int],
@@ -366,7 +394,11 @@ def draw_annotation(bgr: np.ndarray, result: VisionResult, confidences, chosen: 
     else:
         annotated = out
         np.copyto(annotated, bgr)
-    cv2.add(annotated, MASK_TINT_BGR, dst=annotated, mask=result.mask)
+    x, y, width, height = cv2.boundingRect(result.mask)
+    if width and height:
+        # Tinted only where the mask has pixels: the rest of a full-frame pass would add 0.
+        tinted = annotated[y:y + height, x:x + width]
+        cv2.add(tinted, MASK_TINT_BGR, dst=tinted, mask=result.mask[y:y + height, x:x + width])
     scale = max(0.35, annotated.shape[0] / 480.0)
     thickness = max(1, int(round(scale * 2)))
     for index, (blob, confidence) in enumerate(zip(result.candidates, confidences)):
