@@ -3,9 +3,10 @@
 In one run, on its own master (free port), the same published stream feeds side by side:
 opencv_apps' chain hsv_color_filter -> contour_moments + edge_detection (three C++ nodes, Debian
 ``ros-opencv-apps``), image_converter with every output subscribed (detection, annotated, mask,
-edges), image_converter with only its detection subscribed, and a bare rospy node that only
-receives the images (subscribed and with the allocator set as image_converter does) and
-acknowledges each with an empty message. Each process's CPU time
+edges), image_converter with only its detection subscribed, and two bare rospy nodes that
+only receive the images and acknowledge each with an empty message: one subscribed and with the
+allocator set as image_converter does (its cost is the receiving inside image_converter), one
+with glibc's default allocator (a plain rospy node). Each process's CPU time
 (utime + stime of /proc/<pid>/stat, all threads) over the frames it answered (its output
 messages counted) gives milliseconds per frame; a chain's is the sum of its processes'. The run
 is repeated and the load average printed: on 2 shared cores wall-clock latency says little,
@@ -36,6 +37,7 @@ IMAGE_TOPIC = '/bench/image_raw'
 INFO_TOPIC = '/bench/camera_info'
 FRAME = 'camera_optical_frame'
 OPENCV_APPS_DIR = '/usr/lib/opencv_apps'
+PLAIN_RECEIVER = 'plain rospy receiver (default allocator)'
 CLOCK_TICKS_PER_S = os.sysconf('SC_CLK_TCK')
 # Red as opencv_apps' hsv_color_filter takes it: hue in degrees, wrapping when min > max.
 OPENCV_APPS_RED = ['_h_limit_min:=340', '_h_limit_max:=12', '_s_limit_min:=130',
@@ -64,11 +66,12 @@ def free_port():
         return probe.getsockname()[1]
 
 
-def receiver_main():
-    """The bare receiver: a rospy node that takes the images as image_converter does (same
-    subscriber options, same allocator setting) and answers each with an empty message (so its
-    frames can be counted like the others')."""
-    reuse_freed_memory()
+def receiver_main(reuse_memory=True):
+    """A bare receiver: a rospy node that takes the images as image_converter does (same
+    subscriber options; with ``reuse_memory`` the same allocator setting) and answers each with
+    an empty message (so its frames can be counted like the others')."""
+    if reuse_memory:
+        reuse_freed_memory()
     rospy.init_node('bare_receiver')
     ack = rospy.Publisher('~received', Empty, queue_size=10)
     rospy.Subscriber('image', Image, lambda _msg: ack.publish(Empty()), queue_size=1,
@@ -132,11 +135,12 @@ def start_nodes(env, with_opencv_apps):
                                               '/converter_all/detection')]
     nodes['image_converter, detection only'] = [
         (start(converter + ['__name:=converter_detect']), '/converter_detect/detection')]
-    nodes['bare rospy receiver'] = [(start([sys.executable, '-c',
-                                            'from can_seeker.tools.bench_node import '
-                                            'receiver_main; receiver_main()',
-                                            'image:=' + IMAGE_TOPIC]),
-                                     '/bare_receiver/received')]
+    for name, node, reuse_memory in (('bare rospy receiver', 'bare_receiver', True),
+                                     (PLAIN_RECEIVER, 'plain_receiver', False)):
+        nodes[name] = [(start([sys.executable, '-c', 'from can_seeker.tools.bench_node import '
+                               'receiver_main; receiver_main(%s)' % reuse_memory,
+                               'image:=' + IMAGE_TOPIC, '__name:=' + node]),
+                        '/%s/received' % node)]
     return nodes
 
 
@@ -144,7 +148,8 @@ def subscribe_outputs(with_opencv_apps):
     """Counters on every output a node under test is asked for (they also make the lazy
     opencv_apps nodes and image_converter's debug outputs work)."""
     topics = ['/converter_all/detection', '/converter_all/annotated', '/converter_all/mask',
-              '/converter_all/edges', '/converter_detect/detection', '/bare_receiver/received']
+              '/converter_all/edges', '/converter_detect/detection', '/bare_receiver/received',
+              '/plain_receiver/received']
     if with_opencv_apps:
         topics += ['/hsv_color_filter/image', '/contour_moments/moments', '/edge_detection/image']
     return {topic: Counter(topic) for topic in topics}
@@ -206,7 +211,7 @@ def main(argv=None):
         publisher = rospy.Publisher(IMAGE_TOPIC, Image, queue_size=1)
         nodes = start_nodes(env, with_opencv_apps)
         counters = subscribe_outputs(with_opencv_apps)
-        expected = 5 if with_opencv_apps else 3
+        expected = 6 if with_opencv_apps else 4
         deadline = time.time() + 60.0
         while publisher.get_num_connections() < expected and time.time() < deadline:
             time.sleep(0.2)
@@ -239,8 +244,9 @@ def main(argv=None):
                                         'windows (all had drops)')
               + ' | '.join('%.2f' % median[name] for name in names) + ' | |')
         bare = median['bare rospy receiver']
-        print('\ndetection only - bare receive: %.2f ms per frame (target <= 1.5)' % (
-            median['image_converter, detection only'] - bare))
+        detection = median['image_converter, detection only']
+        print('\ndetection only - bare receive: %.2f ms per frame (target <= 1.5); against the '
+              'plain rospy receiver: %.2f' % (detection - bare, detection - median[PLAIN_RECEIVER]))
         if with_opencv_apps:
             print('all outputs / opencv_apps chain: %.2f (target <= 0.6)' % (
                 median['image_converter, all outputs'] / median['opencv_apps chain (3 nodes)']))
