@@ -238,3 +238,24 @@ def test_rendered_textured_can_is_never_an_obstacle():
                 ranges = scanner.scan(world.render(), POSE, INTRINSICS).ranges
                 assert not np.isfinite(ranges).any(), (distance, bearing)
                 assert np.isnan(ranges).any() == (distance > 2.0), (distance, bearing)
+
+
+def test_the_excluded_can_is_the_most_can_like_red_blob_not_the_largest():
+    """A red poster larger than the can stands left of it: the can (image_converter's choice)
+    is left out and the poster is an obstacle."""
+    with World(URDF, CameraSpec(WIDTH, HEIGHT, 45.0, MOUNT), can_texture='textured') as world:
+        world.place_can(0.8, -0.15)
+        image = world.render()
+    image[70:112, 10:130] = (30, 25, 200)               # the poster stands on row 111
+    result = CameraScanner().scan(image, POSE, INTRINSICS)
+    geometry = CameraScanner().geometry_for(POSE, INTRINSICS)
+    angles = bin_angles(geometry)
+    can_angle = math.atan2(-0.15, 0.8)
+    near_can = np.abs(angles - can_angle) < 0.03
+    assert near_can.any() and not np.isfinite(result.ranges[near_can]).any()
+    poster_left, poster_right = (math.atan2(*floor_point(POSE, INTRINSICS, u, 111.5)[::-1])
+                                 for u in (20.0, 120.0))
+    behind_poster = (angles < poster_left) & (angles > poster_right)
+    poster_x = floor_point(POSE, INTRINSICS, INTRINSICS.cx, 111.5)[0]
+    assert np.allclose(result.ranges[behind_poster], poster_x / np.cos(angles[behind_poster]),
+                       rtol=0.02)

@@ -25,14 +25,16 @@ from can_seeker.camera_geometry import CameraIntrinsics, CameraPose
 from can_seeker.params import Param
 from can_seeker.vision.detector import Blob, RedCanDetector
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorClassifier, FloorSettings
+from can_seeker.vision.report import CanModel, rank_candidates
 
 SCAN_PARAMS = (
     Param('max_range', 4.0, 'obstacles standing farther than this from the scan frame origin '
           'are not reported; also caps the scan\'s range_max (m)', 0.1, 100.0),
     Param('scan_frame', 'base_link', 'frame of the scan, on the floor with z up (REP-103); the '
           'camera pose is looked up in TF from it'),
-    Param('exclude_can', True, 'the red can (the detector\'s largest red blob with the red '
-          'stacked on it, its lid, base and band) is the target, not an obstacle'),
+    Param('exclude_can', True, 'the red can (the red blob image_converter reports as the most '
+          'can-like, with the red stacked on it, its lid, base and band) is the target, not an '
+          'obstacle'),
 )
 CAN_MARGIN = 0.25
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
@@ -231,11 +233,13 @@ class CameraScanner:
     """BGR images + camera geometry -> obstacle masks and scans; caches the geometry tables."""
 
     def __init__(self, floor_settings: Optional[FloorSettings] = None, max_range_m: float = 4.0,
-                 exclude_can: bool = True, can_detector: Optional[RedCanDetector] = None):
+                 exclude_can: bool = True, can_detector: Optional[RedCanDetector] = None,
+                 can_model: Optional[CanModel] = None):
         self.floor = FloorClassifier(floor_settings)
         self.max_range_m = max_range_m
         self.exclude_can = exclude_can
         self.can_detector = can_detector if can_detector is not None else RedCanDetector()
+        self.can_model = can_model if can_model is not None else CanModel()
         self._geometry_key = None
         self.geometry = None
 
@@ -255,9 +259,11 @@ class CameraScanner:
         """Classify the frame and, with a known camera geometry of the same size, scan it."""
         box = None
         if self.exclude_can:
+            # The can is the blob image_converter reports: the most can-like, not the largest.
             result = self.can_detector.detect(bgr)
-            if result.blob is not None:
-                box = can_box(result.mask, result.blob)
+            chosen, _ = rank_candidates(result.candidates, pose, intrinsics, self.can_model)
+            if chosen is not None:
+                box = can_box(result.mask, result.candidates[chosen])
         can = None if box is None else can_region(bgr.shape, box)
         obstacles = self.floor.classify(bgr, can)
         geometry = self.geometry_for(pose, intrinsics)

@@ -119,13 +119,13 @@ def _measure(blob: Blob, pose, intrinsics, can: CanModel):
     return confidence, (range_m, bearing, method)
 
 
-def can_report(candidates: Sequence[Blob], image_width: int, image_height: int, pose,
-               intrinsics, can: CanModel) -> CanReport:
-    """Report of a frame's red blobs (largest first; empty: not found) seen with this camera
-    geometry: the most can-like blob, its range, bearing and confidence."""
+def rank_candidates(candidates: Sequence[Blob], pose, intrinsics, can: CanModel):
+    """(index of the most can-like blob, [(confidence, (range_m, bearing_rad, range_method) or
+    None when not measured) per blob]) of a frame's red blobs (largest first; empty: index
+    None). The decision of image_converter's report: every node that needs "the can" asks
+    this."""
     if not candidates:
-        return CanReport(False, 0.0, 0.0, 0.0, (0, 0, 0, 0), image_width, image_height,
-                         math.nan, math.nan, 'none')
+        return None, []
     largest_area = max(blob.area for blob in candidates)
     measured = []
     for blob in candidates:
@@ -134,6 +134,17 @@ def can_report(candidates: Sequence[Blob], image_width: int, image_height: int, 
                         else (0.0, None))
     chosen = max(range(len(candidates)), key=lambda index: measured[index][0] * (
         candidates[index].area / largest_area) ** SIZE_PREFERENCE_EXPONENT)
+    return chosen, measured
+
+
+def can_report(candidates: Sequence[Blob], image_width: int, image_height: int, pose,
+               intrinsics, can: CanModel) -> CanReport:
+    """Report of a frame's red blobs (largest first; empty: not found) seen with this camera
+    geometry: the most can-like blob, its range, bearing and confidence."""
+    chosen, measured = rank_candidates(candidates, pose, intrinsics, can)
+    if chosen is None:
+        return CanReport(False, 0.0, 0.0, 0.0, (0, 0, 0, 0), image_width, image_height,
+                         math.nan, math.nan, 'none')
     blob = candidates[chosen]
     confidence, geometry = measured[chosen]
     range_m, bearing, method = geometry if geometry is not None else _measure(
