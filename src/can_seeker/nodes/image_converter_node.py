@@ -6,6 +6,7 @@ Subscribes ``image`` (queue_size=1 and a large buff_size: always the newest fram
 The camera pose for range and bearing comes from TF (``~base_frame`` <- image frame), else
 from ``~camera_height``/``~camera_pitch_deg``.
 """
+import struct
 import time
 
 import numpy as np
@@ -36,11 +37,34 @@ POSE_REFRESH_S = 1.0
 and a TF lookup per frame costs more than the rest of the geometry."""
 
 
+class ArrayImage(Image):
+    """A sensor_msgs/Image whose ``data`` is a C-contiguous uint8 numpy array, written to the
+    wire straight from the array's memory: Image.serialize wants bytes and packs them again,
+    two copies of every image published (0.07 ms per 640x480 bgr8 image)."""
+
+    def serialize(self, buff):
+        """The sensor_msgs/Image wire format (header, height, width, encoding, is_bigendian,
+        step, data), as Image.serialize writes it."""
+        header = self.header
+        frame_id = header.frame_id.encode('utf-8')
+        encoding = self.encoding.encode('utf-8')
+        buff.write(struct.pack('<4I', header.seq, header.stamp.secs, header.stamp.nsecs,
+                               len(frame_id)))
+        buff.write(frame_id)
+        buff.write(struct.pack('<3I', self.height, self.width, len(encoding)))
+        buff.write(encoding)
+        buff.write(struct.pack('<BII', self.is_bigendian, self.step, self.data.nbytes))
+        buff.write(self.data.data)
+
+
 def image_msg(header, array, encoding):
-    """sensor_msgs/Image of a contiguous uint8 array (mono8: 2-D, bgr8: 3-D)."""
+    """sensor_msgs/Image of a uint8 array (mono8: 2-D, bgr8: 3-D) that stays unchanged until
+    the message is published (publish serialises it at once); contiguous arrays are not
+    copied."""
+    array = np.ascontiguousarray(array)
     height, width = array.shape[:2]
-    return Image(header=header, height=height, width=width, encoding=encoding, is_bigendian=0,
-                 step=array.strides[0], data=array.tobytes())
+    return ArrayImage(header=header, height=height, width=width, encoding=encoding,
+                      is_bigendian=0, step=array.strides[0], data=array)
 
 
 def warn_unless_remapped(*names):
