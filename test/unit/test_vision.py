@@ -1,5 +1,7 @@
 """Red mask, clean-up, candidate blobs with shape scores and moments centroid on synthetic
 images."""
+import dataclasses
+
 import cv2
 import numpy as np
 import pytest
@@ -133,6 +135,30 @@ def test_speckle_noise_is_removed():
     result = detect(image)
     assert not result.found
     assert np.count_nonzero(result.mask) == 0
+
+
+@pytest.mark.parametrize('open_px, close_px', [(3, 7), (1, 8), (4, 1), (5, 11)])
+def test_clean_mask_equals_cleaning_the_whole_image(open_px, close_px):
+    """Cleaning only the box around the red pixels gives the full-image result, with blobs
+    and speckles anywhere (at the image edges too) and odd or even kernels."""
+    rng = np.random.default_rng(open_px * 100 + close_px)
+    detector = RedCanDetector(dataclasses.replace(DetectorSettings.defaults(),
+                                                  open_kernel_px=open_px,
+                                                  close_kernel_px=close_px))
+    _, open_kernel, close_kernel = detector._config
+    for trial in range(200):
+        height, width = (int(side) for side in rng.integers(10, 90, 2))
+        mask = np.zeros((height, width), np.uint8)
+        for _ in range(int(rng.integers(0, 4))):
+            x, y, w, h = (int(value) for value in rng.integers(0, 30, 4))
+            mask[y:y + h + 1, x:x + w + 1] = 255
+        mask[rng.random((height, width)) < rng.choice([0.0, 0.002, 0.05])] = 255
+        expected = mask
+        for operation, kernel in ((cv2.MORPH_OPEN, open_kernel), (cv2.MORPH_CLOSE, close_kernel)):
+            if kernel is not None:
+                expected = cv2.morphologyEx(expected, operation, kernel)
+        detector.detect(np.zeros((height, width, 3), np.uint8))
+        assert np.array_equal(detector.clean_mask(mask, open_kernel, close_kernel), expected), trial
 
 
 def test_speckles_do_not_move_the_centroid():
