@@ -10,7 +10,7 @@ from can_seeker.params import read_params
 from can_seeker.sim.scene import CAN_HEIGHT_M, CAN_RADIUS_M, Solid
 from can_seeker.sim.simulation import (MIN_CAN_CLEARANCE_M, PARAMS, RateSchedule, Simulation,
                                        camera_spec, checked_config, parse_rgba,
-                                       random_can_position)
+                                       random_can_position, scene_for)
 from can_seeker.sim.world import World
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
@@ -101,6 +101,13 @@ def test_rate_schedule_does_not_drift_at_uneven_rates():
     due = [step for step in range(1, 2401) if schedule.due(step)]
     assert len(due) == 70
     assert all(abs(step - (index + 1) * 240.0 / 7.0) < 1.0 for index, step in enumerate(due))
+
+
+def test_rate_schedule_counts_from_a_restart():
+    schedule = RateSchedule(15.0, 240.0)
+    assert [step for step in range(1, 24) if schedule.due(step)] == [16]
+    schedule.restart(23)
+    assert [step for step in range(24, 80) if schedule.due(step)] == [39, 55, 71]
 
 
 @pytest.fixture(scope='module')
@@ -292,3 +299,37 @@ def test_reset_forgets_a_touch_before_it(sim):
     touches = [bool(result.touched) for result in (sim.step() for _ in range(24))
                if result.state_due]
     assert touches and not any(touches)
+
+
+def test_a_reset_trial_sees_its_frames_one_period_after_the_reset(sim):
+    for _ in range(5):
+        sim.step()
+    sim.reset_trial((1.0, 0.0))
+    reset_step = sim.steps
+    frames = [sim.steps for result in (sim.step() for _ in range(40)) if result.image is not None]
+    assert frames == [reset_step + 16, reset_step + 32]
+
+
+def _trial_after(history_steps, history_twist):
+    """The robot's pose after a fixed trial that follows ``history_steps`` of driving at
+    ``history_twist`` and a new scene, in a fresh world."""
+    config, _ = config_with(width=32, height=24, renderer='tiny')
+    with World(URDF, camera_spec(config), renderer='tiny', scene=config.scene) as world:
+        simulation = Simulation.from_config(world, config)
+        for _ in range(history_steps):
+            simulation.command(*history_twist)
+            simulation.step()
+        simulation.set_scene(scene_for(config, 100, print))
+        simulation.reset_trial((0.8, -0.2))
+        for step in range(200):
+            if step % 16 == 0:
+                simulation.command(*((0.2, -0.3) if step > 32 else (0.0, 0.0)))
+            simulation.step()
+        return world.robot_state().position
+
+
+def test_a_trial_does_not_depend_on_what_the_world_did_before_it():
+    reference = _trial_after(64, (0.0, 0.0))
+    assert reference[0] > 0.05
+    for history in ((152, (0.0, 0.0)), (100, (0.3, 0.5))):
+        assert _trial_after(*history) == pytest.approx(reference, abs=1e-9)

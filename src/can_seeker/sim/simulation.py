@@ -266,17 +266,24 @@ def camera_spec(config: SimpleNamespace) -> CameraSpec:
 
 class RateSchedule:
     """Says at which physics steps an event of ``rate_hz`` is due: the first one period after
-    step 0, then at the first step at or after each multiple of the period (no drift)."""
+    the start step (0, or the last :meth:`restart`), then at the first step at or after each
+    multiple of the period from there (no drift)."""
 
     def __init__(self, rate_hz: float, physics_rate_hz: float):
         self._steps_per_event = physics_rate_hz / rate_hz
+        self.restart(0)
+
+    def restart(self, step: int) -> None:
+        """Count the periods from ``step``: the next event is one period after it."""
+        self._start_step = step
         self._next_event = 1
 
     def due(self, step: int) -> bool:
         """Whether the event is due at ``step``; call once per step, in order."""
-        if step + 1e-9 < self._next_event * self._steps_per_event:
+        elapsed = step - self._start_step
+        if elapsed + 1e-9 < self._next_event * self._steps_per_event:
             return False
-        self._next_event = math.floor(step / self._steps_per_event + 1e-9) + 1
+        self._next_event = math.floor(elapsed / self._steps_per_event + 1e-9) + 1
         return True
 
 
@@ -342,11 +349,19 @@ class Simulation:
         self._watchdog.command(linear_mps, angular_radps, self.time_s)
 
     def reset_robot(self):
-        """Robot back to the start pose at rest; the pending command is dropped."""
+        """Robot back to the start pose at rest; the pending command is dropped. Frames, scans
+        and states are counted from here, so a trial sees them at the same times after its
+        reset wherever between two frames the reset came."""
         self._watchdog.reset()
         self._limiter.reset()
         self.world.reset_robot()
         self._touched = frozenset()
+        for schedule in self._schedules():
+            schedule.restart(self.steps)
+
+    def _schedules(self):
+        return [schedule for schedule in (self._camera_schedule, self._state_schedule,
+                                          self._scan_schedule) if schedule is not None]
 
     def reset(self):
         """Robot back to the start pose at rest, can upright at its last placement."""

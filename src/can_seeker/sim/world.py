@@ -136,6 +136,9 @@ class World:
         client.setAdditionalSearchPath(pybullet_data.getDataPath())
         client.setGravity(0.0, 0.0, -9.81)
         client.setTimeStep(self.dt_s)
+        # Contact pairs solved in a sorted order: otherwise the order (and so the result) of a
+        # trial after a rebuilt scene depends on what the world did before it.
+        client.setPhysicsEngineParameter(deterministicOverlappingPairs=1)
         self._floor = None
         self._solids = {}
         self._robot = client.loadURDF(urdf_path, useFixedBase=False)
