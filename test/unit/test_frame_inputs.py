@@ -79,3 +79,16 @@ def test_a_frame_whose_scan_never_comes_is_answered_once_the_simulator_stepped_o
     assert kinds(inputs.ready()) == [('pose', 1.0)]
     inputs.pose('p2', 1.02)
     assert kinds(inputs.ready()) == [('detection', 1.0), ('pose', 1.02)]
+
+
+def test_inputs_from_before_a_reset_are_dropped_whenever_they_arrive():
+    inputs = FrameInputs(live, live)
+    inputs.pose('p0', 0.9)
+    inputs.clear(1.0)
+    for kind in ('pose', 'scan', 'detection'):
+        getattr(inputs, kind)(kind + ' before', 1.0)
+    assert inputs.ready() == []
+    inputs.pose('p1', 1.01)
+    inputs.scan('s1', 1.01)
+    inputs.detection('d1', 1.01)
+    assert [value for _, _, value in inputs.ready()] == ['p1', 's1', 'd1']

@@ -24,6 +24,7 @@ class FrameInputs:
         self._pose_live = pose_live
         self._scan_live = scan_live
         self._pending: List[Tuple[float, str, Any]] = []
+        self._reset_s = -float('inf')
         self._newest = {'pose': -float('inf'), 'scan': -float('inf')}
 
     def pose(self, value: Any, stamp_s: float) -> None:
@@ -38,11 +39,16 @@ class FrameInputs:
         """A detection of the frame stamped ``stamp_s``."""
         self._add('detection', value, stamp_s)
 
-    def clear(self) -> None:
-        """Drop everything pending (a reset)."""
+    def clear(self, reset_s: float = -float('inf')) -> None:
+        """A reset at sim time ``reset_s``: drop everything pending, and every input stamped at
+        or before it that is still on its way (it shows the world before the reset; when it
+        arrives depends on the machine's load)."""
         self._pending = []
+        self._reset_s = reset_s
 
     def _add(self, kind: str, value: Any, stamp_s: float) -> None:
+        if stamp_s <= self._reset_s + STAMP_TOLERANCE_S:
+            return
         self._pending.append((stamp_s, kind, value))
         if kind in self._newest:
             self._newest[kind] = max(self._newest[kind], stamp_s)

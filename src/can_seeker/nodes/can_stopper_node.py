@@ -272,8 +272,9 @@ class CanStopperNode:
 
     def on_reset(self, _request):
         with self.lock:
-            self.controller.reset(rospy.get_time())
-            self.frame_inputs.clear()
+            reset_s = rospy.get_time()
+            self.controller.reset(reset_s)
+            self.frame_inputs.clear(reset_s)
         self.publish_state(force=True)
         return EmptyResponse()
 
