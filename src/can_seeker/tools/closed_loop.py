@@ -39,6 +39,10 @@ SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/new_world', '/sim/pause_
 POLL_S = 0.01
 SETTLE_S = 0.5
 """Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
+WARM_UP_S = 1.0
+"""Sim time (s) the controller has to have been commanding before the first trial: by then
+every node has its TF and camera_info (a node without them yet falls back to its parameters,
+and the first trial would depend on when they came)."""
 
 
 def free_port() -> int:
@@ -124,19 +128,27 @@ class TruthMonitor:
         self.lock = threading.Lock()
         self.start(0.0)
         self.commanding = threading.Event()
+        self.first_command_s = None
         self.subscribers = [
             rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=None),
             rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None),
             rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=None),
             rospy.Subscriber('/sim/contacts', Contacts, self._on_contacts, queue_size=None),
             rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10),
-            rospy.Subscriber(COMMAND_TOPIC, TwistStamped, lambda _: self.commanding.set(),
-                             queue_size=1),
+            rospy.Subscriber(COMMAND_TOPIC, TwistStamped, self._on_command, queue_size=1),
         ]
 
+    def _on_command(self, message):
+        stamp_s = message.header.stamp.to_sec()
+        if self.first_command_s is None:
+            self.first_command_s = stamp_s
+        elif stamp_s - self.first_command_s >= WARM_UP_S:
+            self.commanding.set()
+
     def wait_until_live(self, timeout_s):
-        """Block until every truth topic is connected and the controller has commanded once
-        (the camera -> detector -> controller chain runs); RuntimeError after ``timeout_s``.
+        """Block until every truth topic is connected and the controller has commanded for
+        WARM_UP_S (the camera -> detector -> controller chain runs); RuntimeError after
+        ``timeout_s``.
 
         Before that, the start of a trial could be missed: a subscription still being
         connected silently loses the first messages.
