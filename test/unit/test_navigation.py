@@ -244,3 +244,24 @@ def test_the_safety_layer_forgets_obstacles_no_scan_has_seen_for_a_while():
                        range_min_m=1.0, stamp_s=11.0)
     assert navigator.free_travel_m((0.3, 0.0)) == 1.0         # not seen for 11 s
     assert navigator.grid.occupied()[navigator.grid.cell_of(0.5, 0.0)]   # still on the map
+
+
+def test_a_remembered_obstacle_is_kept_where_it_was_hit_not_at_its_cell_centre():
+    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
+    navigator.pose = Pose2D(0.0, 0.0, math.pi / 2.0)
+    # hit beside the path, 0.205 m to the right (its cell's centre is 0.25 m away)
+    navigator.add_scan(np.array([[0.3, -0.205]]), np.array([True]), (0.0, 0.0), navigator.pose,
+                       stamp_s=0.0)
+    navigator.add_scan(np.array([[1.0, 0.0]]), np.array([False]), (0.0, 0.0), navigator.pose,
+                       range_min_m=0.9, stamp_s=1.0)
+    assert len(navigator.scan_points) == 0                     # only remembered now
+    assert navigator.free_travel_m((0.3, 0.0)) < 0.35
+    navigator.pose = Pose2D(-0.1, 0.0, math.pi / 2.0)          # 0.305 m from it
+    assert navigator.free_travel_m((0.3, 0.0)) == 1.0
+
+
+def test_of_several_hits_in_a_cell_the_nearest_to_the_sensor_is_remembered():
+    grid = GridMap(0.1, 4.0)
+    grid.add_scan((0.0, 0.0), np.array([[0.58, 0.02], [0.52, 0.03], [0.55, 0.08]]),
+                  np.array([True, True, True]))
+    assert grid.obstacle_points((0.0, 0.0), 1.0).tolist() == [[0.52, 0.03]]

@@ -32,6 +32,7 @@ class GridMap:
         self.evidence = np.zeros((self.cells, self.cells), np.int16)
         self.seen = np.zeros((self.cells, self.cells), bool)
         self.last_hit_s = np.full((self.cells, self.cells), -np.inf)
+        self.hit_xy = np.zeros((self.cells, self.cells, 2))
 
     def clear(self) -> None:
         """Forget every obstacle and all coverage."""
@@ -89,8 +90,14 @@ class GridMap:
         free = np.zeros_like(self.seen)
         free[ix[inside], iy[inside]] = True
         hit = np.zeros_like(self.seen)
-        hx, hy, hit_inside = self.index_of(ends_xy[np.asarray(hits, bool)])
-        hit[hx[hit_inside], hy[hit_inside]] = True
+        hits = np.asarray(hits, bool)
+        # nearest to the sensor first: where one cell has several hits, that one is kept
+        hit_xy = ends_xy[hits][np.argsort(lengths[hits], kind='stable')]
+        hx, hy, hit_inside = self.index_of(hit_xy)
+        hx, hy, hit_xy = hx[hit_inside], hy[hit_inside], hit_xy[hit_inside]
+        _, first = np.unique(hx * self.cells + hy, return_index=True)
+        hit[hx, hy] = True
+        self.hit_xy[hx[first], hy[first]] = hit_xy[first]
         free &= ~hit
         self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
@@ -118,8 +125,9 @@ class GridMap:
         self.seen[ix[visible], iy[visible]] = True
 
     def obstacle_points(self, centre_xy, radius_m: float, since_s: float = -np.inf) -> np.ndarray:
-        """Odom centres (N x 2) of occupied cells within ``radius_m`` of ``centre_xy`` last hit
-        at or after ``since_s``."""
+        """Odom points (N x 2) of the occupied cells within ``radius_m`` of ``centre_xy`` last
+        hit at or after ``since_s``: where the last scan that hit each cell hit it (a cell's
+        centre may lie half a cell behind the obstacle's surface)."""
         cells = int(math.ceil(radius_m / self.resolution_m)) + 1
         cx, cy, inside = self.index_of(np.asarray(centre_xy, float))
         if not inside[0]:
@@ -128,9 +136,9 @@ class GridMap:
         y0, y1 = max(0, cy[0] - cells), min(self.cells, cy[0] + cells + 1)
         ox, oy = np.nonzero(self.occupied()[x0:x1, y0:y1]
                             & (self.last_hit_s[x0:x1, y0:y1] >= since_s))
-        centres = self.centre_of(ox + x0, oy + y0).reshape(-1, 2)
-        near = np.linalg.norm(centres - np.asarray(centre_xy, float), axis=1) <= radius_m
-        return centres[near]
+        points = self.hit_xy[ox + x0, oy + y0].reshape(-1, 2)
+        near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
+        return points[near]
 
     def occupancy_values(self) -> np.ndarray:
         """The grid as nav_msgs/OccupancyGrid data (rows along y, columns along x, row-major
