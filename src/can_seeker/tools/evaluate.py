@@ -236,7 +236,9 @@ def evaluate(args):
             with open(path) as record:
                 records.append(json.load(record))
         return merged(records)
-    if args.jobs > 1:
+    if args.jobs > 1 or args.repeat_check:
+        # rospy runs one node per process, and it is shut down after a run: each run of a
+        # repeat check gets processes of its own
         return run_jobs(args)
     return run(args) + (settings(args),)
 
