@@ -4,8 +4,8 @@ import math
 import pytest
 
 from can_seeker.camera_geometry import yaw_from_quaternion
-from can_seeker.evaluation.trials import Criteria, judge, path_length, summarise, summary_table, \
-    true_gap_and_bearing
+from can_seeker.evaluation.trials import Contact, Criteria, judge, path_length, pose_at, \
+    summarise, summary_table, true_gap_and_bearing
 
 CRITERIA = Criteria()
 TARGET_CENTRE_M = 0.25 + 0.165 + 0.033
@@ -104,3 +104,24 @@ def test_contacts_by_object_and_hidden_cans_are_summarised():
     table = summary_table(summary)
     assert '| trials with contact (any object) | 1 (obstacle_2 in 1, wall_front in 1) |' in table
     assert '| can not visible from the start | 2 (1 of them succeeded) |' in table
+
+
+def test_pose_at_takes_the_last_pose_at_or_before_the_stamp():
+    poses = [(10.0, 0.0, 0.0, 0.0), (10.02, 0.01, 0.0, 0.1), (10.04, 0.02, 0.0, 0.2)]
+    assert pose_at(poses, 10.03) == (0.01, 0.0, 0.1)
+    assert pose_at(poses, 10.04) == (0.02, 0.0, 0.2)
+    assert pose_at(poses, 9.0) == (0.0, 0.0, 0.0)
+    assert pose_at([], 10.0) is None
+
+
+def test_the_first_contact_is_reported_with_time_and_pose():
+    first = Contact(12.5, -0.351, -2.057, math.radians(-63.3), ['obstacle_5'])
+    touching = judge(0, (1.0, 0.0), 10.0, (0.0, 0.0), 0.0, (1.0, 0.0), True, 1.0, 30.0, 6.0,
+                     CRITERIA, ('obstacle_5', 'wall_left'), False, first)
+    assert touching.first_contact_s == 12.5
+    assert (touching.first_contact_x_m, touching.first_contact_y_m) == (-0.351, -2.057)
+    assert touching.first_contact_yaw_deg == pytest.approx(-63.3)
+    assert touching.as_dict()['first_contact_objects'] == ['obstacle_5']
+    assert touching.contact_text() == ('obstacle_5, wall_left (first obstacle_5 at 12.50 s '
+                                       'sim, base_link at (-0.351, -2.057) yaw -63.3 deg)')
+    assert trial().contact_text() == 'no' and trial().first_contact_s is None

@@ -13,6 +13,8 @@ import statistics
 from dataclasses import asdict, dataclass
 from typing import Iterable, List, Optional, Sequence, Tuple
 
+import numpy as np
+
 from can_seeker.control.controller import PARAMS as CONTROL_PARAMS
 from can_seeker.params import defaults
 from can_seeker.sim.scene import CAN_RADIUS_M, ROBOT_RADIUS_M
@@ -53,6 +55,28 @@ def path_length(points: Iterable[Sequence[float]]) -> float:
     return length
 
 
+def pose_at(stamped_poses: Sequence[Sequence[float]], stamp_s: float) -> Optional[Tuple[float, ...]]:
+    """The (x, y, yaw) of the last of ``stamped_poses`` ((stamp s, x, y, yaw) in stamp order)
+    stamped at or before ``stamp_s`` (the first one when all are later; None when empty)."""
+    if not stamped_poses:
+        return None
+    stamps = np.array([pose[0] for pose in stamped_poses], float)
+    index = max(0, int(np.searchsorted(stamps, stamp_s, side='right')) - 1)
+    return tuple(float(value) for value in stamped_poses[index][1:4])
+
+
+@dataclass(frozen=True)
+class Contact:
+    """The first touch of a trial: when (sim s after the start), where base_link was (odom, m
+    and rad) and what it touched."""
+
+    time_s: Optional[float]
+    x_m: float
+    y_m: float
+    yaw_rad: float
+    objects: Sequence[str]
+
+
 @dataclass(frozen=True)
 class TrialResult:
     """One trial: where the can was, whether and when the robot stopped, the true final state.
@@ -61,7 +85,8 @@ class TrialResult:
     ``sim_s`` / ``wall_s`` the sim and wall-clock time the trial took; ``final_*`` the true
     base_link pose at the end (odom, m and deg); ``contact_objects`` what the robot touched
     ('can', wall and obstacle names); ``can_visible_from_start`` whether the start camera saw the
-    can unoccluded (None: not known).
+    can unoccluded (None: not known); ``first_contact_*`` when the robot first touched something
+    (sim s after the start; None: never), the true base_link pose then and what it touched.
     """
 
     index: int
@@ -81,6 +106,23 @@ class TrialResult:
     final_yaw_deg: float = math.nan
     contact_objects: Sequence[str] = ()
     can_visible_from_start: Optional[bool] = None
+    first_contact_s: Optional[float] = None
+    first_contact_x_m: float = math.nan
+    first_contact_y_m: float = math.nan
+    first_contact_yaw_deg: float = math.nan
+    first_contact_objects: Sequence[str] = ()
+
+    def contact_text(self) -> str:
+        """What was touched, and when and where first (for failure lines)."""
+        if not self.contact:
+            return 'no'
+        text = ', '.join(self.contact_objects) or 'yes'
+        if self.first_contact_s is not None:
+            text += (' (first %s at %.2f s sim, base_link at (%.3f, %.3f) yaw %.1f deg)'
+                     % (', '.join(self.first_contact_objects) or 'contact',
+                        self.first_contact_s, self.first_contact_x_m, self.first_contact_y_m,
+                        self.first_contact_yaw_deg))
+        return text
 
     def as_dict(self):
         """JSON-ready fields."""
@@ -91,9 +133,11 @@ def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],
           base_xy: Sequence[float], base_yaw_rad: float, final_can_xy: Sequence[float],
           contact: bool, path_m: float, sim_s: float, wall_s: float,
           criteria: Criteria, contact_objects: Sequence[str] = (),
-          can_visible_from_start: Optional[bool] = None) -> TrialResult:
+          can_visible_from_start: Optional[bool] = None,
+          first_contact: Optional[Contact] = None) -> TrialResult:
     """The result of a trial from its true final state (``final_can_xy``: the can may have
     been pushed, so it is measured where it is, not where it was placed)."""
+    touch = first_contact or Contact(None, math.nan, math.nan, math.nan, ())
     gap_m, bearing_rad = true_gap_and_bearing(base_xy, base_yaw_rad, final_can_xy, criteria)
     stopped = time_to_stop_s is not None and time_to_stop_s <= criteria.time_limit_s
     success = (stopped and not contact
@@ -102,7 +146,8 @@ def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],
     return TrialResult(index, float(can_xy[0]), float(can_xy[1]), stopped, time_to_stop_s,
                        gap_m, math.degrees(bearing_rad), contact, path_m, sim_s, wall_s, success,
                        float(base_xy[0]), float(base_xy[1]), math.degrees(base_yaw_rad),
-                       sorted(contact_objects), can_visible_from_start)
+                       sorted(contact_objects), can_visible_from_start, touch.time_s,
+                       touch.x_m, touch.y_m, math.degrees(touch.yaw_rad), sorted(touch.objects))
 
 
 def _stats(values: List[float], kind: str) -> Optional[float]:

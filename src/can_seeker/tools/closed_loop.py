@@ -28,7 +28,7 @@ from std_srvs.srv import Empty
 from can_seeker.msg import Contacts
 from can_seeker.srv import NewWorld, PlaceCan, ResetTrial
 from can_seeker.camera_geometry import yaw_from_quaternion
-from can_seeker.evaluation.trials import judge, path_length
+from can_seeker.evaluation.trials import Contact, judge, path_length, pose_at
 
 STATE_TOPIC = '/can_stopper/state'
 COMMAND_TOPIC = '/cmd_vel_stamped'
@@ -166,10 +166,12 @@ class TruthMonitor:
         with self.lock:
             self.start_s = now_s
             self.path = []
+            self.stamped_poses = []
             self.pose = None
             self.can_xy = None
             self.contact = False
             self.contact_objects = set()
+            self.first_contact = None
             self.state = None
             self.stopped_s = None
             self.seen_search = False
@@ -183,6 +185,7 @@ class TruthMonitor:
             self.pose = (position.x, position.y, yaw_from_quaternion(
                 orientation.x, orientation.y, orientation.z, orientation.w))
             self.path.append((position.x, position.y))
+            self.stamped_poses.append((message.header.stamp.to_sec(),) + self.pose)
 
     def _on_can_pose(self, message):
         if message.header.stamp.to_sec() > self.start_s:
@@ -195,9 +198,12 @@ class TruthMonitor:
                 self.contact = True
 
     def _on_contacts(self, message):
-        if message.objects and message.header.stamp.to_sec() > self.start_s:
+        stamp_s = message.header.stamp.to_sec()
+        if message.objects and stamp_s > self.start_s:
             with self.lock:
                 self.contact_objects.update(message.objects)
+                if self.first_contact is None or stamp_s < self.first_contact[0]:
+                    self.first_contact = (stamp_s, sorted(message.objects))
 
     def _on_state(self, message):
         with self.lock:
@@ -206,6 +212,15 @@ class TruthMonitor:
                 self.seen_search = True
             elif message.data == 'STOPPED' and self.seen_search and self.stopped_s is None:
                 self.stopped_s = rospy.get_time()
+
+    def contact_record(self):
+        """The trial's first contact (time since the start, true pose then, objects), or None."""
+        with self.lock:
+            if self.first_contact is None:
+                return None
+            stamp_s, objects = self.first_contact
+            pose = pose_at(self.stamped_poses, stamp_s) or (float('nan'),) * 3
+            return Contact(stamp_s - self.start_s, pose[0], pose[1], pose[2], objects)
 
     def snapshot(self):
         """(pose, can_xy, contact, path copy, stopped_s) under the lock."""
@@ -289,4 +304,4 @@ class TrialRunner:
         return judge(index, can_xy, time_to_stop, pose[:2], pose[2], final_can, contact,
                      path_length(path), rospy.get_time() - start_s,
                      time.monotonic() - start_wall, self.criteria, contact_objects,
-                     can_visible_from_start)
+                     can_visible_from_start, self.monitor.contact_record())

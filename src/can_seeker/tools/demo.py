@@ -162,6 +162,9 @@ def run(args):
                'gap_error_m': result.gap_m - criteria.stop_distance_m,
                'bearing_deg': result.bearing_deg, 'path_length_m': result.path_length_m,
                'contact': result.contact, 'contact_objects': result.contact_objects,
+               'first_contact_s': result.first_contact_s,
+               'first_contact_pose': [result.first_contact_x_m, result.first_contact_y_m,
+                                      result.first_contact_yaw_deg],
                'can_visible_from_start': visible, 'world': args.world,
                'success': result.success,
                'video_frames': recorder.writer.frames if video_ok else 0}
@@ -174,7 +177,7 @@ def run(args):
           % (can_xy[0], can_xy[1], result.gap_m, criteria.stop_distance_m,
              1000.0 * summary['gap_error_m'], result.bearing_deg, time_text,
              result.path_length_m,
-             (', '.join(result.contact_objects) or 'yes') if result.contact else 'no',
+             result.contact_text(),
              'SUCCESS' if result.success else 'FAILED'))
     print('demo: wrote %s/demo.mp4 (%d frames), trajectory.png, summary.json'
           % (args.output, summary['video_frames']))

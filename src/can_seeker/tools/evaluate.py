@@ -154,8 +154,7 @@ def run_trial(runner, args, index):
                    'bearing %.2f deg, contact=%s'
                    % (index, args.seed + index, result.can_x_m, result.can_y_m,
                       '' if visible else ' (not visible from the start)', result.stopped,
-                      result.gap_m, result.bearing_deg,
-                      ', '.join(result.contact_objects) or result.contact), file=sys.stderr)
+                      result.gap_m, result.bearing_deg, result.contact_text()), file=sys.stderr)
     return result
 
 
