@@ -1,6 +1,7 @@
 """A tiny kinematic world for testing the controller's behaviour without a simulator: a
-unicycle robot, walls and round obstacles, a ray-cast range scan and an ideal can detector
-that sees the can inside the camera's field of view when nothing stands in between."""
+unicycle robot, walls and round obstacles, a ray-cast range scan (all around like a lidar, or
+only what the camera sees, like obstacle_scan) and an ideal can detector that sees the can inside
+the camera's field of view when nothing stands in between."""
 import math
 from dataclasses import dataclass, field
 from typing import List, Tuple
@@ -13,6 +14,9 @@ from can_seeker.control.navigation import CameraView, Pose2D
 ROBOT_RADIUS = 0.165
 CAN_RADIUS = 0.033
 CAMERA_X = 0.12
+CAMERA_BOTTOM_M = 0.23
+"""Floor distance (m) from the camera of the image's bottom row (0.25 m high, 25 deg down, 45 deg
+vertical field of view): nearer obstacles are reported there, as obstacle_scan does."""
 
 
 @dataclass
@@ -53,6 +57,19 @@ class World:
         lengths = np.where(hits, ranges, max_range)
         ends = np.stack((lengths * np.cos(angles), lengths * np.sin(angles)), axis=-1)
         return ends, hits
+
+    def camera_scan(self, view, columns=160, max_range=4.0):
+        """(ends, hits in base_link, range_min) of a camera obstacle scan: one ray per image
+        column from the camera over its horizontal field of view; an obstacle nearer than the
+        bottom row is reported at the bottom row; ranges from base_link."""
+        pose = self.pose
+        camera = (pose.x + view.x * math.cos(pose.yaw), pose.y + view.x * math.sin(pose.yaw))
+        angles = np.linspace(-view.half_fov_rad, view.half_fov_rad, columns)
+        ranges = np.array([self.ray(camera, pose.yaw + a, max_range) for a in angles])
+        hits = np.isfinite(ranges)
+        lengths = np.maximum(np.where(hits, ranges, max_range), CAMERA_BOTTOM_M)
+        ends = np.stack((view.x + lengths * np.cos(angles), lengths * np.sin(angles)), axis=-1)
+        return ends, hits, view.x + CAMERA_BOTTOM_M
 
     def clearance(self):
         """Smallest gap between the robot's circle and any wall or obstacle (m)."""
@@ -95,8 +112,10 @@ class World:
 CAMERA_VIEW = CameraView(CAMERA_X, 0.0, 0.0, math.radians(29.0), 0.12, 2.5)
 
 
-def run(controller, world, duration_s, rate=20.0, scan_fov=2 * math.pi, stop_when=None):
-    """Run the closed loop; return (times, poses, states, min clearance)."""
+def run(controller, world, duration_s, rate=20.0, scan_fov=2 * math.pi, stop_when=None,
+        camera_scan=False):
+    """Run the closed loop, scanning all around within ``scan_fov`` or, with ``camera_scan``,
+    what the camera sees; return (times, poses, states, min clearance)."""
     controller.set_camera_view(CAMERA_VIEW)
     dt = 1.0 / rate
     now = 0.0
@@ -104,8 +123,11 @@ def run(controller, world, duration_s, rate=20.0, scan_fov=2 * math.pi, stop_whe
     min_clearance = math.inf
     while now < duration_s:
         controller.observe_pose(world.pose, now)
-        ends, hits = world.scan(fov_rad=scan_fov)
-        controller.observe_scan(ends, hits, (0.0, 0.0), now)
+        if camera_scan:
+            ends, hits, range_min = world.camera_scan(CAMERA_VIEW)
+        else:
+            (ends, hits), range_min = world.scan(fov_rad=scan_fov), 0.0
+        controller.observe_scan(ends, hits, (0.0, 0.0), now, range_min)
         controller.observe(world.sighting(CAMERA_VIEW), now)
         command = controller.command(now)
         world.drive(command, dt)

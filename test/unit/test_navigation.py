@@ -123,6 +123,21 @@ def test_points_behind_a_robot_that_drives_away_do_not_stop_it():
     assert avoidance.free_travel_m(np.array([[0.15, 0.0]]), 0.3, 0.0, 0.2, 1.0) == 0.0
 
 
+def test_a_robot_too_close_to_a_point_may_leave_it_but_never_turn_into_it():
+    beside = np.array([[-0.01, -0.19]])                   # within the clearance, on the right
+    assert avoidance.free_travel_m(beside, 0.3, 0.0, 0.2, 1.0) == 1.0       # straight away
+    assert avoidance.free_travel_m(beside, 0.3, 1.0, 0.2, 1.0) == 1.0       # turning left
+    assert avoidance.free_travel_m(beside, 0.1, -1.0, 0.2, 1.0) < 0.05      # turning into it
+
+
+def test_each_point_may_have_its_own_clearance():
+    points = np.array([[1.0, 0.0], [0.8, 0.0]])
+    assert avoidance.free_travel_m(points, 0.3, 0.0, np.array([0.2, 0.05]), 2.0) == \
+        pytest.approx(0.74, abs=0.03)
+    assert avoidance.free_travel_m(points, 0.3, 0.0, np.array([0.5, 0.05]), 2.0) == \
+        pytest.approx(0.5, abs=0.03)
+
+
 def test_safe_linear_brakes_before_the_obstacle():
     assert avoidance.safe_linear(0.4, 2.0, 0.5, 0.03) == 0.4
     assert avoidance.safe_linear(0.4, 0.1, 0.5, 0.03) == pytest.approx(math.sqrt(2 * 0.5 * 0.07))
@@ -194,6 +209,23 @@ def test_approach_goes_around_an_obstacle_between_robot_and_can():
     assert max(abs(pose.y) for pose in poses) > 0.4
 
 
+CLUTTER = [(-1.27, 2.58, 0.155), (-0.01, -1.65, 0.21), (-1.57, 2.71, 0.15), (2.43, 1.61, 0.2),
+           (-2.38, -1.68, 0.17), (-0.72, -1.09, 0.15)]
+
+
+def test_a_camera_only_robot_keeps_its_margin_from_obstacles_that_left_its_view():
+    """The camera scan sees +-29 deg and nothing nearer than the image's bottom row; on its way
+    to a can hidden behind two cylinders the robot passes beside them after they have left the
+    view, and turns toward the can past them: the safety layer must still know them, and keep
+    its margin from wherever in their map cells they stand."""
+    world = World(3.0, CLUTTER, (-0.15, -2.45))
+    controller = make_controller()
+    now, poses, states, clearance = run(controller, world, 90.0, stop_when=stopped,
+                                        camera_scan=True)
+    assert controller.state is State.STOPPED
+    assert clearance > DEFAULTS['safety_margin'] / 2.0
+
+
 def test_wander_keeps_moving_without_touching_anything():
     world = World(2.0, OBSTACLES[:3])
     controller = make_controller(behaviour='wander')
@@ -232,17 +264,18 @@ def test_occupancy_values_have_rows_along_y():
     assert values[grid.cell_of(-0.5, -0.5)[::-1]] == -1
 
 
-def test_the_safety_layer_forgets_obstacles_no_scan_has_seen_for_a_while():
+def test_the_safety_layer_forgets_a_phantom_that_scans_keep_in_their_blind_zone():
     navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, memory_s=10.0)
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
     navigator.add_scan(np.array([[0.5, 0.0]]), np.array([True]), (0.0, 0.0), navigator.pose,
                        stamp_s=0.0)
-    navigator.add_scan(np.array([[0.0, 2.0]]), np.array([False]), (0.0, 0.0), navigator.pose,
-                       range_min_m=1.0, stamp_s=5.0)
-    assert navigator.free_travel_m((0.3, 0.0)) < 0.5          # remembered in the blind zone
-    navigator.add_scan(np.array([[0.0, 2.0]]), np.array([False]), (0.0, 0.0), navigator.pose,
-                       range_min_m=1.0, stamp_s=11.0)
-    assert navigator.free_travel_m((0.3, 0.0)) == 1.0         # not seen for 11 s
+    ahead = np.array([[2.0, 0.0]])
+    navigator.add_scan(ahead, np.array([False]), (0.0, 0.0), navigator.pose, range_min_m=1.0,
+                       stamp_s=5.0)
+    assert navigator.free_travel_m((0.3, 0.0)) < 0.5          # 5 s in the blind zone
+    navigator.add_scan(ahead, np.array([False]), (0.0, 0.0), navigator.pose, range_min_m=1.0,
+                       stamp_s=11.0)
+    assert navigator.free_travel_m((0.3, 0.0)) == 1.0         # 11 s in the blind zone
     assert navigator.grid.occupied()[navigator.grid.cell_of(0.5, 0.0)]   # still on the map
 
 
@@ -265,3 +298,21 @@ def test_of_several_hits_in_a_cell_the_nearest_to_the_sensor_is_remembered():
     grid.add_scan((0.0, 0.0), np.array([[0.58, 0.02], [0.52, 0.03], [0.55, 0.08]]),
                   np.array([True, True, True]))
     assert grid.obstacle_points((0.0, 0.0), 1.0).tolist() == [[0.52, 0.03]]
+
+
+def test_the_safety_layer_keeps_an_obstacle_out_of_view_until_a_scan_sees_its_place_free():
+    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, memory_s=10.0)
+    navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    navigator.add_scan(np.array([[0.45, 0.0]]), np.array([True]), (0.0, 0.0), navigator.pose,
+                       stamp_s=0.0)
+    navigator.pose = Pose2D(0.15, 0.0, math.pi / 2.0)        # now 0.3 m to the robot's right
+    for stamp_s in range(1, 61):                              # a minute looking ahead only
+        navigator.add_scan(np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0),
+                           navigator.pose, range_min_m=0.35, stamp_s=float(stamp_s))
+    sharp_right = (0.1, -1.0)                                 # a 0.1 m radius arc into it
+    assert navigator.free_travel_m(sharp_right) < 0.1
+    navigator.pose = Pose2D(0.15, 0.0, 0.0)                   # turned toward it, sees it free
+    for stamp_s in range(61, 81):
+        navigator.add_scan(np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0),
+                           navigator.pose, range_min_m=0.1, stamp_s=float(stamp_s))
+    assert not navigator.grid.occupied()[navigator.grid.cell_of(0.45, 0.0)]

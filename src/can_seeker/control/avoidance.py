@@ -4,14 +4,18 @@ Obstacles are points on the floor in base_link (x forward, y left). The robot is
 ``radius_m`` about base_link, so turning in place can never hit anything it does not touch
 already; driving sweeps a corridor along the arc of the commanded (linear, angular). The free
 travel is how far the robot can go along that arc before its circle, grown by a margin, would
-touch a point; the speed is capped so the deceleration limit stops it within that distance.
+touch a point (each point may carry its own clearance: a remembered obstacle is one hit per
+map cell, the rest of it may stand nearer); the speed is capped so the deceleration limit stops it within
+that distance.
 """
 import math
-from typing import Sequence, Tuple
+from typing import Sequence, Tuple, Union
 
 import numpy as np
 
 ARC_STEP_M = 0.02
+CLOSER_TOLERANCE_M = 1e-6
+"""Rounding allowance (m) when checking that the robot comes no nearer to a point."""
 
 
 def arc_poses(linear: float, angular: float, length_m: float) -> np.ndarray:
@@ -25,19 +29,20 @@ def arc_poses(linear: float, angular: float, length_m: float) -> np.ndarray:
     return np.stack((np.sin(heading) / curvature, (1.0 - np.cos(heading)) / curvature), axis=-1)
 
 
-def free_travel_m(points: np.ndarray, linear: float, angular: float, clearance_m: float,
-                  horizon_m: float) -> float:
+def free_travel_m(points: np.ndarray, linear: float, angular: float,
+                  clearance_m: Union[float, np.ndarray], horizon_m: float) -> float:
     """How far base_link can move along the command's arc (m, up to ``horizon_m``) before a
-    point comes within ``clearance_m`` of it. Points already within the clearance and not
-    behind the robot stop it at once; those behind it (x <= 0) are left as it drives away."""
+    point comes within ``clearance_m`` of it (one value, or one per point). A point already
+    within its clearance may not come any nearer: the robot may drive away from it, along
+    it or around it, never toward it."""
     points = np.asarray(points, float).reshape(-1, 2)
     if len(points) == 0:
         return horizon_m
+    clearance = np.broadcast_to(np.asarray(clearance_m, float), (len(points),))
+    allowed = np.minimum(clearance, np.linalg.norm(points, axis=1))
     poses = arc_poses(linear, angular, horizon_m)
-    leaving = (np.linalg.norm(points, axis=1) < clearance_m) & (points[:, 0] <= 0.0)
-    points = points[~leaving]
     distances = np.linalg.norm(poses[:, None, :] - points[None, :, :], axis=-1)
-    touching = distances < clearance_m
+    touching = distances < allowed[None, :] - CLOSER_TOLERANCE_M
     blocked = np.nonzero(touching.any(axis=1))[0]
     if len(blocked) == 0:
         return horizon_m
@@ -55,12 +60,11 @@ def safe_linear(linear: float, free_m: float, decel_mps2: float, reserve_m: floa
     return min(linear, math.sqrt(2.0 * decel_mps2 * room_m))
 
 
-def exclude_near(points: np.ndarray, centre_xy: Sequence[float], radius_m: float) -> np.ndarray:
-    """``points`` without those within ``radius_m`` of ``centre_xy`` (the target the robot is
+def far_from(points: np.ndarray, centre_xy: Sequence[float], radius_m: float) -> np.ndarray:
+    """Which ``points`` lie farther than ``radius_m`` from ``centre_xy`` (the target the robot is
     meant to reach, which a range sensor sees like any obstacle)."""
     points = np.asarray(points, float).reshape(-1, 2)
-    far = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) > radius_m
-    return points[far]
+    return np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) > radius_m
 
 
 def to_frame(points_xy: np.ndarray, x_m: float, y_m: float, yaw_rad: float) -> np.ndarray:
@@ -116,11 +120,11 @@ def open_turn_sign(points: np.ndarray, fallback_sign: float) -> float:
     return 1.0 if left < right else -1.0
 
 
-def clear_heading(points: np.ndarray, target_rad: float, clearance_m: float, needed_m: float,
-                  candidates: int = 24) -> float:
+def clear_heading(points: np.ndarray, target_rad: float, clearance_m: Union[float, np.ndarray],
+                  needed_m: float, candidates: int = 24) -> float:
     """The heading (rad, base_link) nearest to ``target_rad`` along which the robot can drive
-    straight for ``needed_m`` without coming within ``clearance_m`` of a point (a gap in the
-    scan); NaN when every direction is blocked."""
+    straight for ``needed_m`` without coming within ``clearance_m`` (one value or one per
+    point) of a point (a gap in the scan); NaN when every direction is blocked."""
     points = np.asarray(points, float).reshape(-1, 2)
     headings = np.concatenate(([target_rad], target_rad + np.linspace(
         -math.pi, math.pi, candidates, endpoint=False)[1:]))

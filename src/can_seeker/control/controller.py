@@ -126,9 +126,10 @@ PARAMS = (
     Param('can_exclusion_radius', 0.25, 'range returns within this of the target can\'s '
           'estimated centre are the can (or its shadow), not an obstacle; below stop_distance '
           '+ can_radius, the direct approach never brings the robot to them (m)', 0.0, 1.0),
-    Param('obstacle_memory', 15.0, 'the safety layer avoids a remembered obstacle for this '
-          'long after a scan last saw it (it may stand in the blind zone, or be a phantom '
-          'there) (s)', 1.0, 600.0),
+    Param('obstacle_memory', 15.0, 'the safety layer avoids a remembered obstacle until scans '
+          'have had it in their blind zone (nearer than range_min) for this long since one last '
+          'saw it (no ray can clear a phantom there); out of view it is kept until a scan sees '
+          'its place free (s)', 1.0, 600.0),
     Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
           'ahead (m)', 0.05, 5.0),
 )
@@ -455,9 +456,8 @@ class Controller:
     def _wander(self) -> Tuple[float, float]:
         """WANDER: straight on while the way ahead is clear, else turn away in place."""
         config = self.config
-        points = self.navigator.obstacles_base()
-        ahead_m = avoidance.free_travel_m(points, config.explore_linear, 0.0,
-                                          config.robot_radius + config.safety_margin,
+        points, clearance = self.navigator.obstacles_base()
+        ahead_m = avoidance.free_travel_m(points, config.explore_linear, 0.0, clearance,
                                           config.wander_clearance)
         if ahead_m >= config.wander_clearance:
             return config.explore_linear, 0.0

@@ -3,9 +3,12 @@
 Two layers over the same square cells:
 
 - obstacle evidence from range scans (a hit adds four times what a ray passing through
-  subtracts, both clamped), so obstacles stay known while they are in the camera's blind zone
-  or a few frames of a scan miss them (a camera sees a tall obstacle's silhouette lean past its
-  base), and a moved object is cleared by the rays that keep passing through its old place;
+  subtracts, both clamped), so obstacles stay known while they are out of the sensor's view
+  (beside or behind the robot, or in the blind zone nearer than its range_min) or a few frames
+  of a scan miss them (a camera sees a tall obstacle's silhouette lean past its base), and a
+  moved object is cleared by the rays that keep passing through its old place. Each obstacle
+  cell also counts how long scans have had it in their blind zone since one last hit it: there
+  no ray can confirm or clear it, so a phantom there can be told apart only by that time;
 - coverage: the floor the camera has looked at, up to the range at which it would have found
   the can, stopping at obstacles. Exploration drives to where it has not looked yet.
 
@@ -31,14 +34,16 @@ class GridMap:
         self.origin_m = -self.cells * self.resolution_m / 2.0
         self.evidence = np.zeros((self.cells, self.cells), np.int16)
         self.seen = np.zeros((self.cells, self.cells), bool)
-        self.last_hit_s = np.full((self.cells, self.cells), -np.inf)
+        self.blind_s = np.zeros((self.cells, self.cells))
+        self.scan_s = -np.inf
         self.hit_xy = np.zeros((self.cells, self.cells, 2))
 
     def clear(self) -> None:
         """Forget every obstacle and all coverage."""
         self.evidence[:] = 0
         self.seen[:] = False
-        self.last_hit_s[:] = -np.inf
+        self.blind_s[:] = 0.0
+        self.scan_s = -np.inf
 
     def forget_coverage(self) -> None:
         """Forget where the camera looked (obstacles stay)."""
@@ -68,11 +73,14 @@ class GridMap:
 
     def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
                  clear_from_m: float = 0.0, stamp_s: float = 0.0) -> None:
-        """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom): the floor along each ray from
-        ``clear_from_m`` on is free (nearer, the sensor is blind and what is remembered there
-        stays), its end is an obstacle where ``hits`` is true (a ray without a return ends at
-        the range it can vouch for)."""
+        """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom) taken at ``stamp_s``: the floor
+        along each ray from ``clear_from_m`` on is free, its end is an obstacle where ``hits``
+        is true (a ray without a return ends at the range it can vouch for). Nearer than
+        ``clear_from_m`` the sensor is blind: what is remembered there stays, and the time
+        since the previous scan is added to its blind time."""
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
+        elapsed_s = stamp_s - self.scan_s if np.isfinite(self.scan_s) else 0.0
+        self.scan_s = stamp_s
         if len(ends_xy) == 0:
             return
         origin = np.asarray(origin_xy, float).reshape(1, 2)
@@ -84,24 +92,32 @@ class GridMap:
         fractions = np.arange(samples) * step_m
         directions = (ends_xy - origin) / np.maximum(lengths, 1e-9)[:, None]
         points = origin[None, :, :] + fractions[None, :, None] * directions[:, None, :]
-        keep = ((fractions[None, :] <= free_lengths[:, None])
-                & (fractions[None, :] >= clear_from_m))
-        ix, iy, inside = self.index_of(points[keep])
-        free = np.zeros_like(self.seen)
-        free[ix[inside], iy[inside]] = True
-        hit = np.zeros_like(self.seen)
+        along = fractions[None, :] <= free_lengths[:, None]
+        beyond_blind = fractions[None, :] >= clear_from_m
+        free = self._cells(points[along & beyond_blind])
+        blind = self._cells(points[(fractions[None, :] <= lengths[:, None]) & ~beyond_blind])
         hits = np.asarray(hits, bool)
         # nearest to the sensor first: where one cell has several hits, that one is kept
         hit_xy = ends_xy[hits][np.argsort(lengths[hits], kind='stable')]
         hx, hy, hit_inside = self.index_of(hit_xy)
         hx, hy, hit_xy = hx[hit_inside], hy[hit_inside], hit_xy[hit_inside]
         _, first = np.unique(hx * self.cells + hy, return_index=True)
+        hit = np.zeros_like(self.seen)
         hit[hx, hy] = True
         self.hit_xy[hx[first], hy[first]] = hit_xy[first]
         free &= ~hit
+        blind &= ~hit
         self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
-        self.last_hit_s[hit] = stamp_s
+        self.blind_s[hit] = 0.0
+        self.blind_s[blind] += max(0.0, elapsed_s)
+
+    def _cells(self, xy: np.ndarray) -> np.ndarray:
+        """Boolean grid of the cells holding any of the odom points ``xy`` (outside: none)."""
+        ix, iy, inside = self.index_of(xy)
+        cells = np.zeros_like(self.seen)
+        cells[ix[inside], iy[inside]] = True
+        return cells
 
     def mark_seen(self, camera_xy, heading_rad: float, half_fov_rad: float, near_m: float,
                   far_m: float) -> None:
@@ -124,10 +140,12 @@ class GridMap:
         visible = visible.reshape(-1)
         self.seen[ix[visible], iy[visible]] = True
 
-    def obstacle_points(self, centre_xy, radius_m: float, since_s: float = -np.inf) -> np.ndarray:
-        """Odom points (N x 2) of the occupied cells within ``radius_m`` of ``centre_xy`` last
-        hit at or after ``since_s``: where the last scan that hit each cell hit it (a cell's
-        centre may lie half a cell behind the obstacle's surface)."""
+    def obstacle_points(self, centre_xy, radius_m: float,
+                        max_blind_s: float = np.inf) -> np.ndarray:
+        """Odom points (N x 2) of the occupied cells within ``radius_m`` of ``centre_xy`` that
+        scans have had in their blind zone for less than ``max_blind_s`` since one last hit
+        them: where the last scan that hit each cell hit it (a cell's centre may lie half a
+        cell behind the obstacle's surface)."""
         cells = int(math.ceil(radius_m / self.resolution_m)) + 1
         cx, cy, inside = self.index_of(np.asarray(centre_xy, float))
         if not inside[0]:
@@ -135,7 +153,7 @@ class GridMap:
         x0, x1 = max(0, cx[0] - cells), min(self.cells, cx[0] + cells + 1)
         y0, y1 = max(0, cy[0] - cells), min(self.cells, cy[0] + cells + 1)
         ox, oy = np.nonzero(self.occupied()[x0:x1, y0:y1]
-                            & (self.last_hit_s[x0:x1, y0:y1] >= since_s))
+                            & (self.blind_s[x0:x1, y0:y1] < max_blind_s))
         points = self.hit_xy[ox + x0, oy + y0].reshape(-1, 2)
         near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
         return points[near]

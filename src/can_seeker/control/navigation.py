@@ -116,31 +116,48 @@ class Navigator:
         self.grid.mark_seen(camera_xy, pose.yaw + view.yaw, view.half_fov_rad, view.near_m,
                             view.far_m)
 
+    @property
+    def cell_spread_m(self) -> float:
+        """How much nearer (m) than a remembered cell's one hit point the rest of the obstacle
+        in that cell may stand: half a cell diagonal (the part of a surface that the sensor saw
+        from elsewhere, or hardly at all, before it left the view)."""
+        return self.grid.resolution_m / math.sqrt(2.0)
+
+    @property
+    def cell_margin_m(self) -> float:
+        """The margin beyond ``robot_radius`` the safety layer keeps from remembered obstacles."""
+        return self.safety_margin_m + self.cell_spread_m
+
     def obstacles_base(self, exclude_xy: Optional[Sequence[float]] = None,
-                       exclude_radius_m: float = 0.0) -> np.ndarray:
-        """Obstacle points in base_link now: the last scan (moved by the motion since) and the
-        obstacles around the robot seen within the last ``memory_s`` (an obstacle left in the
-        blind zone is kept that long; a phantom there does not block the robot for ever),
-        without those near ``exclude_xy`` (odom)."""
+                       exclude_radius_m: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
+        """(points N x 2 in base_link now, clearance m each) of what the robot must keep away
+        from: the last scan (moved by the motion since; ``robot_radius`` + ``safety_margin``)
+        and the remembered obstacle cells around the robot (where each was hit, the clearance
+        grown by :attr:`cell_spread_m`), without those near ``exclude_xy`` (odom). A remembered
+        obstacle out of the sensor's view stays until a scan sees its place free; one that
+        scans have had in their blind zone for ``memory_s`` is dropped (there no ray can clear
+        a phantom, which would otherwise block the robot for ever)."""
         pose = self.pose
         if pose is None:
-            return np.zeros((0, 2))
-        points = [self.grid.obstacle_points((pose.x, pose.y), MEMORY_RADIUS_M,
-                                            self.scan_s - self.memory_s)]
+            return np.zeros((0, 2)), np.zeros(0)
+        clearance_m = self.robot_radius_m + self.safety_margin_m
+        cells = self.grid.obstacle_points((pose.x, pose.y), MEMORY_RADIUS_M, self.memory_s)
+        points, clearances = [cells], [np.full(len(cells), clearance_m + self.cell_spread_m)]
         if self.scan_pose is not None and len(self.scan_points):
             scan = self.scan_pose
             points.append(avoidance.from_frame(self.scan_points, scan.x, scan.y, scan.yaw))
-        odom_points = np.concatenate(points)
+            clearances.append(np.full(len(self.scan_points), clearance_m))
+        odom_points, clearance = np.concatenate(points), np.concatenate(clearances)
         if exclude_xy is not None:
-            odom_points = avoidance.exclude_near(odom_points, exclude_xy, exclude_radius_m)
-        return avoidance.to_frame(odom_points, pose.x, pose.y, pose.yaw)
+            keep = avoidance.far_from(odom_points, exclude_xy, exclude_radius_m)
+            odom_points, clearance = odom_points[keep], clearance[keep]
+        return avoidance.to_frame(odom_points, pose.x, pose.y, pose.yaw), clearance
 
     def free_travel_m(self, command: Tuple[float, float], exclude_xy=None,
                       exclude_radius_m: float = 0.0) -> float:
         """Free travel along the command's arc (m, up to the safety horizon)."""
-        return avoidance.free_travel_m(self.obstacles_base(exclude_xy, exclude_radius_m),
-                                       command[0], command[1],
-                                       self.robot_radius_m + self.safety_margin_m,
+        points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
+        return avoidance.free_travel_m(points, command[0], command[1], clearance,
                                        SAFETY_HORIZON_M)
 
     def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
@@ -216,13 +233,13 @@ class Navigator:
 
     def straight_line_blocked(self, goal_xy: Sequence[float], exclude_xy=None,
                               exclude_radius_m: float = 0.0) -> bool:
-        """True when the straight line from the robot to ``goal_xy`` crosses obstacles grown by
-        the robot's radius and the safety margin (the robot's own cell aside)."""
+        """True when the straight line from the robot to ``goal_xy`` crosses obstacles grown as
+        the safety layer grows remembered ones (the robot's own cell aside)."""
         start = self.grid.cell_of(self.pose.x, self.pose.y)
         goal = self.grid.cell_of(goal_xy[0], goal_xy[1])
         if start is None or goal is None:
             return False
-        blocked = self.blocked_cells(exclude_xy, exclude_radius_m, self.safety_margin_m)
+        blocked = self.blocked_cells(exclude_xy, exclude_radius_m, self.cell_margin_m)
         blocked[start] = False
         return planner.segment_blocked(blocked, start, goal)
 
@@ -237,7 +254,7 @@ class Navigator:
         nearest = avoidance.lookahead_index(path_xy, (pose.x, pose.y), MIN_LOOKAHEAD_M)
         start = self.grid.cell_of(pose.x, pose.y)
         if start is not None:
-            blocked = self.blocked_cells(margin_m=self.safety_margin_m)
+            blocked = self.blocked_cells(margin_m=self.cell_margin_m)
             blocked[start] = False
             for candidate in range(index, nearest - 1, -1):
                 goal = self.grid.cell_of(*path_xy[candidate])
@@ -245,10 +262,9 @@ class Navigator:
                     index = candidate
                     break
         target_base = avoidance.to_frame(path_xy[index], pose.x, pose.y, pose.yaw)[0]
-        heading = avoidance.clear_heading(self.obstacles_base(),
-                                          math.atan2(target_base[1], target_base[0]),
-                                          self.robot_radius_m + self.safety_margin_m,
-                                          CLEAR_AHEAD_M)
+        points, clearance = self.obstacles_base()
+        heading = avoidance.clear_heading(points, math.atan2(target_base[1], target_base[0]),
+                                          clearance, CLEAR_AHEAD_M)
         if math.isnan(heading):
             return 0.0, math.copysign(angular_gain, target_base[1] or 1.0)
         return avoidance.steer_to_point((math.cos(heading), math.sin(heading)), cruise_mps,
