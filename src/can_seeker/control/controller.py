@@ -42,7 +42,8 @@ import numpy as np
 
 from can_seeker.params import Param
 from can_seeker.control import avoidance
-from can_seeker.control.navigation import GOAL_REACHED_M, CameraView, Navigator, Pose2D
+from can_seeker.control.navigation import CLEAR_AHEAD_M, GOAL_REACHED_M, CameraView, Navigator, \
+    Pose2D
 from can_seeker.control.twist_limits import TwistLimits, limit_twist
 
 PARAMS = (
@@ -431,13 +432,25 @@ class Controller:
         ``DIRECT_GAP_M``, where the direct law alone can stop in front of the can)."""
         if (self.can_xy is not None and self.can_navigate(now_s)
                 and self.sighting.gap_m > DIRECT_GAP_M
-                and self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
-                                                         self.config.can_exclusion_radius)):
+                and (self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
+                                                          self.config.can_exclusion_radius)
+                     or self._direct_law_held_back())):
             command = self._follow_path(self.can_xy, now_s, self.can_xy)
             if command is not None:
                 return command
         self.path_xy = None
         return self._approach_law()
+
+    def _direct_law_held_back(self) -> bool:
+        """True when the safety layer would stop the direct law within ``CLEAR_AHEAD_M`` (an
+        obstacle beside the straight line, nearer than the margin): the path follower then
+        turns to a gap instead of stalling there."""
+        command = self._approach_law()
+        if command[0] <= 0.0:
+            return False
+        free_m = self.navigator.free_travel_m(command, self.can_xy,
+                                              self.config.can_exclusion_radius)
+        return free_m < CLEAR_AHEAD_M
 
     def _lost(self, now_s: float) -> Tuple[float, float]:
         """LOST: back toward where the can was, else turn toward the side it left."""
