@@ -217,6 +217,22 @@ def test_red_mask_is_the_chromaticity_decision(bgr, red):
     assert np.all(red_mask(image, DetectorSettings.defaults()) == (255 if red else 0)), bgr
 
 
+def test_red_mask_matches_the_decision_on_random_pixels():
+    """Every pixel of random colours is decided as the documented tests say, but for those
+    within half a grey level of a threshold (rounding)."""
+    settings = DetectorSettings.defaults()
+    image = np.random.default_rng(7).integers(0, 256, (120, 160, 3), dtype=np.uint8)
+    blue, green, red = (image[..., channel].astype(float) for channel in range(3))
+    slack = np.stack([settings.green_max_ratio * red - green,
+                      settings.blue_max_ratio * red - blue,
+                      settings.orange_max_ratio * red - (green - blue)])
+    expected = np.all(slack >= 0, axis=0) & (red >= settings.value_min)
+    decided = np.all(np.abs(slack) > 0.5, axis=0)
+    mask = red_mask(image, settings)
+    assert expected[decided].sum() > 500
+    assert np.array_equal(mask[decided] == 255, expected[decided])
+
+
 def test_red_mask_reuses_its_scratch_buffers_and_reads_strided_images():
     image = draw_disk(scene(), (100, 100), 20, (0, 0, 220))
     scratch = MaskScratch(HEIGHT, WIDTH)

@@ -77,12 +77,13 @@ class DetectorSettings:
 
 
 class MaskScratch:
-    """Buffers of :func:`red_mask` for one image size, reused from frame to frame."""
+    """Buffers of :func:`red_mask` for one image size, reused from frame to frame: the three
+    channels and the mask, four image planes (fewer planes keep a frame's passes in the CPU
+    cache)."""
 
     def __init__(self, height: int, width: int):
         self.shape = (height, width)
         self.channels = [np.empty((height, width), np.uint8) for _ in range(3)]
-        self.margins = [np.empty((height, width), np.uint8) for _ in range(4)]
         self.mask = np.empty((height, width), np.uint8)
 
 
@@ -98,19 +99,21 @@ def red_mask(bgr: np.ndarray, settings, scratch: Optional[MaskScratch] = None) -
     if scratch is None or scratch.shape != (height, width):
         scratch = MaskScratch(height, width)
     blue, green, red = scratch.channels
-    green_margin, blue_margin, orange_margin, value_margin = scratch.margins
+    passed = scratch.mask
     cv2.split(bgr, scratch.channels)
-    # Each margin is nonzero exactly where the pixel passes that test: saturate(ratio * red -
-    # channel + 1), saturate(red - value_min + 1).
-    cv2.addWeighted(red, settings.green_max_ratio, green, -1.0, 1.0, dst=green_margin)
-    cv2.addWeighted(red, settings.blue_max_ratio, blue, -1.0, 1.0, dst=blue_margin)
-    cv2.addWeighted(red, settings.orange_max_ratio, blue, 1.0, 1.0, dst=orange_margin)
-    cv2.subtract(orange_margin, green, dst=orange_margin)
-    cv2.subtract(red, settings.value_min - 1.0, dst=value_margin)
-    cv2.min(green_margin, blue_margin, dst=green_margin)
-    cv2.min(orange_margin, value_margin, dst=orange_margin)
-    cv2.min(green_margin, orange_margin, dst=green_margin)
-    return cv2.threshold(green_margin, 0, 255, cv2.THRESH_BINARY, dst=scratch.mask)[1]
+    # Each test's margin is nonzero exactly where the pixel passes it: saturate(ratio * red -
+    # channel + 1), saturate(red - value_min + 1); ``passed`` keeps the smallest. A channel
+    # holds its own margin once no later test reads it. Green above blue is saturated at 0
+    # first: where green <= blue the orange test passes either way.
+    cv2.addWeighted(red, settings.green_max_ratio, green, -1.0, 1.0, dst=passed)
+    cv2.subtract(green, blue, dst=green)
+    cv2.addWeighted(red, settings.orange_max_ratio, green, -1.0, 1.0, dst=green)
+    cv2.min(passed, green, dst=passed)
+    cv2.addWeighted(red, settings.blue_max_ratio, blue, -1.0, 1.0, dst=blue)
+    cv2.min(passed, blue, dst=passed)
+    cv2.subtract(red, settings.value_min - 1.0, dst=red)
+    cv2.min(passed, red, dst=passed)
+    return cv2.threshold(passed, 0, 255, cv2.THRESH_BINARY, dst=passed)[1]
 
 
 @dataclass(frozen=True)
