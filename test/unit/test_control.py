@@ -5,6 +5,7 @@ from types import SimpleNamespace
 import pytest
 
 from can_seeker.camera_geometry import camera_pose_from_transform
+from can_seeker.control.navigation import Pose2D
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
                                 camera_floor_pose, dead_band, detection_problem,
                                 detection_shows_can, sighting_from_detection)
@@ -372,3 +373,48 @@ def test_only_confident_detections_show_the_can():
     assert not detection_shows_can(True, 0.3, 0.5)
     assert not detection_shows_can(False, 1.0, 0.5)
     assert detection_shows_can(True, 0.0, 0.0)
+
+
+def tracked_controller(gap_m):
+    """Approaching a can seen confidently ``gap_m`` ahead, the robot at rest at the origin."""
+    controller = make_controller()
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe(ahead(gap_m), 0.0)
+    assert controller.state is State.APPROACH
+    return controller
+
+
+def test_a_weaker_detection_where_the_can_is_keeps_the_approach():
+    """Hysteresis: close up a label changes the silhouette's score from frame to frame."""
+    controller = tracked_controller(0.5)
+    weak = DEFAULTS['track_confidence'] + 0.05
+    assert weak < DEFAULTS['min_confidence']
+    controller.observe(Sighting(0.48, 0.02, weak), 0.05)
+    assert controller.state is State.APPROACH
+    assert controller.sighting.gap_m == 0.48
+
+
+def test_a_weaker_detection_elsewhere_or_too_weak_is_no_can():
+    controller = tracked_controller(0.5)
+    weak = DEFAULTS['track_confidence'] + 0.05
+    controller.observe(Sighting(0.5 + DEFAULTS['track_gate'] + 0.1, 0.0, weak), 0.05)
+    assert controller.state is State.LOST
+    controller = tracked_controller(0.5)
+    controller.observe(Sighting(0.5, 0.0, DEFAULTS['track_confidence'] - 0.05), 0.05)
+    assert controller.state is State.LOST
+
+
+def test_a_weaker_detection_does_not_start_an_approach():
+    controller = make_controller()
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe(Sighting(0.5, 0.0, DEFAULTS['min_confidence'] - 0.05), 0.0)
+    assert controller.state is State.SEARCH
+    assert controller.sighting is None
+
+
+def test_no_hysteresis_with_a_zero_gate():
+    controller = Controller(SimpleNamespace(**dict(DEFAULTS, scan_topic='', track_gate=0.0)))
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe(ahead(0.5), 0.0)
+    controller.observe(Sighting(0.5, 0.0, DEFAULTS['min_confidence'] - 0.05), 0.05)
+    assert controller.state is State.LOST

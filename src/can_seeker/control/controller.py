@@ -95,6 +95,12 @@ PARAMS = (
     Param('min_confidence', 0.5,
           'act only on detections whose confidence that the red object is the can is at least '
           'this (0-1; 0 = every red object)', 0.0, 1.0),
+    Param('track_confidence', 0.2,
+          'while approaching or stopped at the can, a detection within ~track_gate of where '
+          'the can was ranged counts as the can down to this confidence (0-1; hysteresis: '
+          'close up a label\'s lettering changes the silhouette from frame to frame)', 0.0, 1.0),
+    Param('track_gate', 0.3, 'how far from the tracked can a weaker detection may place it '
+          '(m; 0 = no hysteresis)', 0.0, 5.0),
     Param('camera_x', 0.12,
           'camera x in base_link, used only while TF has no base_link -> camera transform (m)',
           -2.0, 2.0),
@@ -168,11 +174,13 @@ class Sighting:
     """The can as one detection shows it, relative to base_link.
 
     ``bearing_rad`` is the direction of the can's centre (left positive); ``gap_m`` is the gap
-    between the robot front and the can's near surface, NaN when the detection had no range.
+    between the robot front and the can's near surface, NaN when the detection had no range;
+    ``confidence`` is the detector's that the red object is the can (0-1).
     """
 
     gap_m: float
     bearing_rad: float
+    confidence: float = 1.0
 
     @property
     def has_range(self) -> bool:
@@ -207,21 +215,22 @@ def detection_shows_can(found: bool, confidence: float, min_confidence: float) -
 
 
 def sighting_from_detection(found: bool, range_m: float, bearing_rad: float, camera: CameraFloorPose,
-                            robot_radius: float, can_radius: float) -> Optional[Sighting]:
-    """The can relative to base_link from one detection, or None when it shows no can.
+                            robot_radius: float, can_radius: float,
+                            confidence: float = 1.0) -> Optional[Sighting]:
+    """The red object of one detection relative to base_link, or None when it shows none.
 
-    A detection without a usable range still tells on which side the can is (the camera's
+    A detection without a usable range still tells on which side the object is (the camera's
     bearing has the same sign as base_link's for a camera on the robot's axis).
     """
     if not found or detection_problem(found, range_m, bearing_rad) is not None:
         return None
     heading = camera.yaw + bearing_rad
     if not math.isfinite(range_m):
-        return Sighting(math.nan, heading)
+        return Sighting(math.nan, heading, confidence)
     centre_x = camera.x + (range_m + can_radius) * math.cos(heading)
     centre_y = camera.y + (range_m + can_radius) * math.sin(heading)
     gap_m = math.hypot(centre_x, centre_y) - can_radius - robot_radius
-    return Sighting(gap_m, math.atan2(centre_y, centre_x))
+    return Sighting(gap_m, math.atan2(centre_y, centre_x), confidence)
 
 
 def dead_band(error: float, band: float, gain: float, minimum: float) -> float:
@@ -305,6 +314,8 @@ class Controller:
         if image_stamp_s < self.ignore_before_s or self.wander:
             return
         self.last_message_s = now_s
+        if sighting is not None and not self._shows_can(sighting):
+            sighting = None
         self.sighting = sighting
         if self.camera_view is not None:
             self.navigator.mark_seen(self.camera_view)
@@ -312,10 +323,7 @@ class Controller:
             self.turn_sign = math.copysign(1.0, sighting.bearing_rad)
         ranged = sighting is not None and sighting.has_range
         if ranged and self.navigator.pose is not None:
-            distance = sighting.gap_m + self.config.robot_radius + self.config.can_radius
-            pose = self.navigator.pose
-            self.can_xy = (pose.x + distance * math.cos(pose.yaw + sighting.bearing_rad),
-                           pose.y + distance * math.sin(pose.yaw + sighting.bearing_rad))
+            self.can_xy = self._can_xy_of(sighting)
         if self.state in (State.SEARCH, State.EXPLORE, State.LOST):
             if ranged:
                 self._enter(State.APPROACH)
@@ -325,6 +333,28 @@ class Controller:
                 self.lost_since_s = now_s
         elif self.state is State.STOPPED:
             self._observe_stopped(ranged, now_s)
+
+    def _can_xy_of(self, sighting: Sighting) -> Optional[Tuple[float, float]]:
+        """Where a ranged sighting puts the can's centre in odom (None without range or pose)."""
+        pose = self.navigator.pose
+        if not sighting.has_range or pose is None:
+            return None
+        distance = sighting.gap_m + self.config.robot_radius + self.config.can_radius
+        return (pose.x + distance * math.cos(pose.yaw + sighting.bearing_rad),
+                pose.y + distance * math.sin(pose.yaw + sighting.bearing_rad))
+
+    def _shows_can(self, sighting: Sighting) -> bool:
+        """A red object is the can when the detector is ~min_confidence sure; while the can
+        is approached or stopped at, also down to ~track_confidence where it was ranged last
+        (within ~track_gate): its silhouette close up varies from frame to frame."""
+        if sighting.confidence >= self.config.min_confidence:
+            return True
+        if (self.state not in (State.APPROACH, State.STOPPED) or self.can_xy is None
+                or sighting.confidence < self.config.track_confidence):
+            return False
+        xy = self._can_xy_of(sighting)
+        return xy is not None and math.hypot(xy[0] - self.can_xy[0],
+                                             xy[1] - self.can_xy[1]) < self.config.track_gate
 
     def _observe_stopped(self, ranged: bool, now_s: float) -> None:
         """STOPPED: approach again when the can moved, LOST when it vanished for a while."""

@@ -182,12 +182,14 @@ class CanStopperNode:
         if problem:
             rospy.logerr_throttle(2.0, 'can_stopper: ignoring the can in this detection: %s'
                                   % problem)
+        # The controller decides which confidence shows the can (lower while it tracks one).
         found = detection_shows_can(detection.found, detection.confidence,
-                                    self.params.min_confidence)
+                                    min(self.params.min_confidence,
+                                        self.params.track_confidence))
         camera = self.camera_pose(detection.header.frame_id) if found else None
         sighting = sighting_from_detection(found, detection.range, detection.bearing,
                                            camera, self.params.robot_radius,
-                                           self.params.can_radius)
+                                           self.params.can_radius, detection.confidence)
         stamp_s = detection.header.stamp.to_sec()
         with self.lock:
             if not self.params.lockstep:
