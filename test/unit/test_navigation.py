@@ -65,17 +65,6 @@ def test_camera_view_of_the_default_mount():
     assert view.far_m == 2.5
 
 
-def test_camera_view_of_a_steep_mount_ends_where_the_whole_can_is_in_view():
-    """At 0.32 m pitched 30 deg down the top row meets the floor 2.43 m out, but a can's top
-    leaves the image 1.50 m out: floor beyond that is not searched."""
-    pose = camera_pose_from_mount(CameraMount(0.32, 30.0))
-    view = camera_view(pose, intrinsics_from_vertical_fov(320, 240, 45.0), 2.5, 0.122)
-    top_row_m = 0.32 / math.tan(math.radians(30.0 - 22.5))
-    assert top_row_m == pytest.approx(2.43, abs=0.01)
-    assert view.far_m == pytest.approx(top_row_m * (1.0 - 0.122 / 0.32), rel=2e-2)
-    assert view.far_m == pytest.approx(1.50, abs=0.02)
-
-
 # Planning ------------------------------------------------------------------------------------
 
 def test_inflate_grows_by_the_radius():

@@ -51,10 +51,8 @@ def camera_view(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: flo
                 target_height_m: float) -> CameraView:
     """The camera's floor footprint for finding a target ``target_height_m`` tall: its
     horizontal field of view, from where the target's top enters the image's bottom row to
-    where its top leaves the image's top row (at most ``max_range_m``, where the target is
-    still found), measured from the camera's floor point. Beyond that only the target's
-    lower part would be in view (a camera pitched steeply down sees the floor much farther
-    than a whole can), so that floor does not count as searched."""
+    where the top row meets the floor (at most ``max_range_m``, where the target is still
+    found), measured from the camera's floor point."""
     half_fov = math.atan2(intrinsics.width / 2.0, intrinsics.fx)
     camera_xy = np.array(pose.position[:2], float)
 
@@ -64,10 +62,10 @@ def camera_view(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: flo
 
     near = floor_distance(intrinsics.height - 1.0)
     far = floor_distance(0.0)
-    # A ray that meets the floor at distance d passes the target's top height at d * above.
-    above = max(0.0, 1.0 - target_height_m / pose.height_m) if pose.height_m > 0.0 else 0.0
-    far_m = max_range_m if far is None else min(far * above, max_range_m)
-    near_m = 0.0 if near is None else near * above
+    far_m = max_range_m if far is None else min(far, max_range_m)
+    near_m = 0.0
+    if near is not None and pose.height_m > 0.0:
+        near_m = near * max(0.0, 1.0 - target_height_m / pose.height_m)
     return CameraView(float(camera_xy[0]), float(camera_xy[1]), pose.heading_rad, half_fov,
                       near_m, far_m)
 
