@@ -8,7 +8,6 @@ the robot starts at its origin facing +x. Use one World from one thread: pybulle
 thread-safe.
 """
 import importlib.util
-import math
 import os
 import shutil
 import tempfile
@@ -278,14 +277,12 @@ class World:
         self._hold_angles_rad = None
         self.set_twist(0.0, 0.0)
 
-    def place_can(self, x_m: float, y_m: float, yaw_rad: float = 0.0):
-        """Stand the can upright and at rest with its axis at (x, y) in the world frame (m),
-        turned by ``yaw_rad`` about its axis (which side of a textured can's label faces +x)."""
+    def place_can(self, x_m: float, y_m: float):
+        """Stand the can upright and at rest with its axis at (x, y) in the world frame (m)."""
         self._can_home = (float(x_m), float(y_m))
         client = self._client
-        client.resetBasePositionAndOrientation(
-            self._can, (x_m, y_m, CAN_HEIGHT_M / 2.0),
-            (0.0, 0.0, math.sin(yaw_rad / 2.0), math.cos(yaw_rad / 2.0)))
+        client.resetBasePositionAndOrientation(self._can, (x_m, y_m, CAN_HEIGHT_M / 2.0),
+                                               (0.0, 0.0, 0.0, 1.0))
         client.resetBaseVelocity(self._can, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
 
     @property
