@@ -310,20 +310,22 @@ class Controller:
     def observe(self, sighting: Optional[Sighting], now_s: float,
                 image_stamp_s: float = math.inf) -> None:
         """Take one detection message received at ``now_s`` of an image taken at
-        ``image_stamp_s``: ``sighting`` is None when it showed no can."""
+        ``image_stamp_s``: ``sighting`` is its red object (None when it showed none), taken
+        as the can by its confidence (see :meth:`_shows_can`)."""
         if image_stamp_s < self.ignore_before_s or self.wander:
             return
         self.last_message_s = now_s
-        if sighting is not None and not self._shows_can(sighting):
-            sighting = None
+        can_xy = None if sighting is None else self._can_xy_of(sighting)
+        if sighting is not None and not self._shows_can(sighting, can_xy):
+            sighting, can_xy = None, None
         self.sighting = sighting
         if self.camera_view is not None:
             self.navigator.mark_seen(self.camera_view)
         if sighting is not None and sighting.bearing_rad != 0.0:
             self.turn_sign = math.copysign(1.0, sighting.bearing_rad)
         ranged = sighting is not None and sighting.has_range
-        if ranged and self.navigator.pose is not None:
-            self.can_xy = self._can_xy_of(sighting)
+        if can_xy is not None:
+            self.can_xy = can_xy
         if self.state in (State.SEARCH, State.EXPLORE, State.LOST):
             if ranged:
                 self._enter(State.APPROACH)
@@ -343,18 +345,20 @@ class Controller:
         return (pose.x + distance * math.cos(pose.yaw + sighting.bearing_rad),
                 pose.y + distance * math.sin(pose.yaw + sighting.bearing_rad))
 
-    def _shows_can(self, sighting: Sighting) -> bool:
-        """A red object is the can when the detector is ~min_confidence sure; while the can
-        is approached or stopped at, also down to ~track_confidence where it was ranged last
-        (within ~track_gate): its silhouette close up varies from frame to frame."""
-        if sighting.confidence >= self.config.min_confidence:
+    def _shows_can(self, sighting: Sighting, can_xy: Optional[Tuple[float, float]]) -> bool:
+        """A red object (placing the can at ``can_xy`` in odom, None if unknown) is the can
+        when the detector is ~min_confidence sure; while the can is approached or stopped at,
+        also down to ~track_confidence where it was ranged last (within ~track_gate): its
+        silhouette close up varies from frame to frame."""
+        if detection_shows_can(True, sighting.confidence, self.config.min_confidence):
             return True
         if (self.state not in (State.APPROACH, State.STOPPED) or self.can_xy is None
-                or sighting.confidence < self.config.track_confidence):
+                or can_xy is None
+                or not detection_shows_can(True, sighting.confidence,
+                                           self.config.track_confidence)):
             return False
-        xy = self._can_xy_of(sighting)
-        return xy is not None and math.hypot(xy[0] - self.can_xy[0],
-                                             xy[1] - self.can_xy[1]) < self.config.track_gate
+        return math.hypot(can_xy[0] - self.can_xy[0],
+                          can_xy[1] - self.can_xy[1]) < self.config.track_gate
 
     def _observe_stopped(self, ranged: bool, now_s: float) -> None:
         """STOPPED: approach again when the can moved, LOST when it vanished for a while."""

@@ -25,8 +25,7 @@ from std_srvs.srv import Empty, EmptyResponse
 from can_seeker.camera_geometry import (camera_pose_from_transform, intrinsics_from_k,
                                         yaw_from_quaternion)
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
-                                detection_problem, detection_shows_can,
-                                sighting_from_detection)
+                                detection_problem, sighting_from_detection)
 from can_seeker.control.frame_inputs import FrameInputs
 from can_seeker.control.navigation import Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
@@ -182,12 +181,9 @@ class CanStopperNode:
         if problem:
             rospy.logerr_throttle(2.0, 'can_stopper: ignoring the can in this detection: %s'
                                   % problem)
-        # The controller decides which confidence shows the can (lower while it tracks one).
-        found = detection_shows_can(detection.found, detection.confidence,
-                                    min(self.params.min_confidence,
-                                        self.params.track_confidence))
-        camera = self.camera_pose(detection.header.frame_id) if found else None
-        sighting = sighting_from_detection(found, detection.range, detection.bearing,
+        # The controller decides from the confidence whether the red object is the can.
+        camera = self.camera_pose(detection.header.frame_id) if detection.found else None
+        sighting = sighting_from_detection(detection.found, detection.range, detection.bearing,
                                            camera, self.params.robot_radius,
                                            self.params.can_radius, detection.confidence)
         stamp_s = detection.header.stamp.to_sec()
