@@ -1,6 +1,7 @@
 """Closed-loop trials judged against ground truth, and their summary.
 
-The truth is the simulator's: base_link pose from ``/odom``, the can's centre from
+The truth is the simulator's: base_link pose from ``/sim/base_pose_ground_truth`` (never the
+robot's own ``/odom``, which drifts with ``~realism``), the can's centre from
 ``/sim/can_pose``, contact with anything but the floor from ``/sim/contact`` (which objects from
 ``/sim/contacts``). A trial succeeds when the controller reached STOPPED within the time limit,
 the true gap is within ``gap_tolerance_m`` of the stop distance, the can is within

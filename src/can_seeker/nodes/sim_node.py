@@ -2,11 +2,13 @@
 world, a room with obstacles or a world file) with a soda can.
 
 Publishes /clock (every physics step), /camera/image_raw + /camera/camera_info (same stamp: the
-sim time the frame was rendered), /scan (the lidar), /odom and TF odom->base_link (perfect
-odometry: the true pose and twist from pybullet), static TF base_link->camera_link->
-camera_optical_frame from the actual camera parameters and base_link->base_scan, and ground truth
-/sim/can_pose, /sim/contact and /sim/contacts (whether and what the robot touched at any physics
-step since the previous message) and /sim/world (latched: the scene in the world-file format).
+sim time the frame was captured; with ~realism, published later and as a real camera sees it),
+/scan (the lidar), /odom and TF odom->base_link (the true pose at ~realism ideal, else wheel
+odometry that drifts), static TF base_link->camera_link->camera_optical_frame from the actual
+camera parameters and base_link->base_scan, and ground truth in the world frame:
+/sim/base_pose_ground_truth (the true pose and twist), /sim/can_pose, /sim/contact and
+/sim/contacts (whether and what the robot touched at any physics step since the previous
+message) and /sim/world (latched: the scene in the world-file format).
 Subscribes /cmd_vel, or in lockstep cmd_vel_stamped. Services /sim/reset, /sim/reset_trial,
 /sim/place_can, /sim/new_world, /sim/pause_physics and /sim/unpause_physics run on the simulation
 thread between physics steps (in lockstep, after the current frame was answered).
@@ -38,6 +40,9 @@ from can_seeker.srv import (NewWorld, NewWorldResponse, PlaceCan, PlaceCanRespon
 from can_seeker.sim.world import World, package_urdf_path, package_worlds_dir
 
 ODOM_FRAME = 'odom'
+WORLD_FRAME = 'world'
+"""The simulator's fixed frame of the ground truth: odom coincides with it at the start and
+after every reset, and drifts away from it with wheel odometry."""
 BASE_FRAME = 'base_link'
 CAMERA_FRAME = 'camera_link'
 OPTICAL_FRAME = 'camera_optical_frame'
@@ -66,17 +71,33 @@ def _transform(stamp, parent, child, translation, rotation_xyzw) -> TransformSta
     return transform
 
 
-def _camera_info(intrinsics) -> CameraInfo:
+def _camera_info(intrinsics, distortion) -> CameraInfo:
     info = CameraInfo()
     info.header.frame_id = OPTICAL_FRAME
     info.width = intrinsics.width
     info.height = intrinsics.height
     info.distortion_model = 'plumb_bob'
-    info.D = [0.0] * 5
+    info.D = list(distortion)
     info.K = intrinsics.K
     info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
     info.P = intrinsics.P
     return info
+
+
+def _odometry(stamp, frame, position, orientation_xyzw, linear, angular) -> Odometry:
+    """A nav_msgs/Odometry of base_link in ``frame``."""
+    odom = Odometry()
+    odom.header.stamp = stamp
+    odom.header.frame_id = frame
+    odom.child_frame_id = BASE_FRAME
+    pose = odom.pose.pose
+    pose.position.x, pose.position.y, pose.position.z = position
+    (pose.orientation.x, pose.orientation.y, pose.orientation.z,
+     pose.orientation.w) = orientation_xyzw
+    twist = odom.twist.twist
+    twist.linear.x, twist.linear.y, twist.linear.z = linear
+    twist.angular.x, twist.angular.y, twist.angular.z = angular
+    return odom
 
 
 class SimNode:
@@ -104,7 +125,8 @@ class SimNode:
         self._paused = False
         self._reset_s = self._sim.time_s
         self._gate = LockstepGate(config.lockstep_timeout) if config.lockstep else None
-        self._camera_info = _camera_info(spec.intrinsics)
+        self._camera_info = _camera_info(spec.intrinsics, self._sim.realism.distortion)
+        rospy.loginfo('sim: realism %s', config.realism)
 
         self._clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
         self._image_pub = rospy.Publisher('camera/image_raw', Image, queue_size=2)
@@ -112,6 +134,8 @@ class SimNode:
         # Ground truth is small and judged message by message: a short outgoing queue drops
         # part of the path when the sim runs faster than real time on a busy machine.
         self._odom_pub = rospy.Publisher('odom', Odometry, queue_size=TRUTH_QUEUE_SIZE)
+        self._truth_pub = rospy.Publisher('~base_pose_ground_truth', Odometry,
+                                          queue_size=TRUTH_QUEUE_SIZE)
         self._can_pose_pub = rospy.Publisher('~can_pose', PoseStamped,
                                              queue_size=TRUTH_QUEUE_SIZE)
         self._contact_pub = rospy.Publisher('~contact', Bool, queue_size=TRUTH_QUEUE_SIZE)
@@ -245,7 +269,7 @@ class SimNode:
         scene = scene_for(self._config, request.seed, rospy.logwarn)
 
         def rebuild():
-            self._sim.set_scene(scene)
+            self._sim.set_scene(scene, request.seed)
             self._reset_s = self._sim.time_s
             self._publish_world()
         try:
@@ -281,24 +305,27 @@ class SimNode:
     def _publish_state(self, stamp, touched):
         world = self._sim.world
         robot = world.robot_state()
-        odom = Odometry()
-        odom.header.stamp = stamp
-        odom.header.frame_id = ODOM_FRAME
-        odom.child_frame_id = BASE_FRAME
-        pose = odom.pose.pose
-        pose.position.x, pose.position.y, pose.position.z = robot.position
-        (pose.orientation.x, pose.orientation.y, pose.orientation.z,
-         pose.orientation.w) = robot.orientation_xyzw
-        twist = odom.twist.twist
-        twist.linear.x, twist.linear.y, twist.linear.z = robot.linear_velocity
-        twist.angular.x, twist.angular.y, twist.angular.z = robot.angular_velocity
+        truth = _odometry(stamp, WORLD_FRAME, robot.position, robot.orientation_xyzw,
+                          robot.linear_velocity, robot.angular_velocity)
+        self._truth_pub.publish(truth)
+        if self._sim.realism.spec.odometry_is_true:
+            odom = _odometry(stamp, ODOM_FRAME, robot.position, robot.orientation_xyzw,
+                             robot.linear_velocity, robot.angular_velocity)
+        else:
+            estimate = self._sim.odometry()
+            odom = _odometry(stamp, ODOM_FRAME, (estimate.x_m, estimate.y_m, robot.position[2]),
+                             (0.0, 0.0, math.sin(estimate.yaw_rad / 2.0),
+                              math.cos(estimate.yaw_rad / 2.0)),
+                             (estimate.linear_mps, 0.0, 0.0), (0.0, 0.0, estimate.angular_radps))
         self._odom_pub.publish(odom)
-        self._tf_broadcaster.sendTransform(_transform(stamp, ODOM_FRAME, BASE_FRAME,
-                                                      robot.position, robot.orientation_xyzw))
+        pose = odom.pose.pose
+        self._tf_broadcaster.sendTransform(_transform(
+            stamp, ODOM_FRAME, BASE_FRAME, (pose.position.x, pose.position.y, pose.position.z),
+            (pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w)))
         can_position, can_orientation = world.can_pose()
         can = PoseStamped()
         can.header.stamp = stamp
-        can.header.frame_id = ODOM_FRAME
+        can.header.frame_id = WORLD_FRAME
         can.pose.position.x, can.pose.position.y, can.pose.position.z = can_position
         (can.pose.orientation.x, can.pose.orientation.y, can.pose.orientation.z,
          can.pose.orientation.w) = can_orientation
@@ -339,9 +366,9 @@ class SimNode:
             if result.scan is not None:
                 self._publish_scan(result.scan, stamp)
             if result.image is not None:
-                self._publish_image(result.image, stamp)
+                self._publish_image(result.image, rospy.Time.from_sec(result.image_time_s))
                 if self._gate is not None:
-                    self._gate.hold(result.time_s, self._awaited_inputs())
+                    self._gate.hold(result.image_time_s, self._awaited_inputs())
             if result.state_due or (self._gate is not None and result.image is not None):
                 # In lockstep every frame also has its state: a controller answers the frame
                 # once its odometry caught up with it.

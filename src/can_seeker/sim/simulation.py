@@ -20,8 +20,10 @@ from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.drive import CommandWatchdog, TwistLimiter
 from can_seeker.params import Param
 from can_seeker.sim.lidar import LidarSpec
+from can_seeker.sim.realism import (PRESETS, REALISM_PARAMS, Realism, spec_from_config,
+                                    trial_key)
 from can_seeker.sim.scene import (CAN_CLEARANCE_M, CAN_RADIUS_M, OBSTACLE_RGBA, ROBOT_RADIUS_M,
-                                  WALL_RGBA, Scene, can_visible, empty_bounds,
+                                  WALL_RGBA, WHEEL_SEPARATION_M, Scene, can_visible, empty_bounds,
                                   random_can_position, random_free_can_position,
                                   random_obstacles, room_walls, scene_from_dict)
 from can_seeker.sim.world import CAN_RGBA, CAN_TEXTURES, RENDERERS, CameraSpec, World
@@ -107,7 +109,7 @@ PARAMS = (
           'by spaces; a topic without a publisher is not waited for'),
     Param('lockstep_timeout', 2.0, 'wall-clock seconds a frame waits for its answers in '
           'lockstep before the simulation steps on (counted, with a warning)', 0.01, 600.0),
-)
+) + REALISM_PARAMS
 
 MIN_CAN_CLEARANCE_M = ROBOT_RADIUS_M + CAN_RADIUS_M
 """A can centre closer than this to base_link (m) would overlap the robot."""
@@ -289,7 +291,8 @@ class RateSchedule:
 
 @dataclass(frozen=True)
 class StepResult:
-    """What one step produced: the new sim time (s), a camera frame and a lidar scan (ranges, m)
+    """What one step produced: the new sim time (s), a camera frame due for publication (with
+    the sim time it was captured at, s: earlier with frame latency) and a lidar scan (ranges, m)
     if one was due, whether the robot/can state is due for publishing and, if so, the names of
     everything but the floor the robot touched at any step since the previous state (a brief
     touch between two states is not lost)."""
@@ -299,6 +302,19 @@ class StepResult:
     state_due: bool
     touched: FrozenSet[str]
     scan: Optional[np.ndarray] = None
+    image_time_s: Optional[float] = None
+
+
+@dataclass(frozen=True)
+class Odometry2D:
+    """The robot's odometry: pose in odom (x m, y m, yaw rad) and twist in base_link (linear
+    m/s, angular rad/s)."""
+
+    x_m: float
+    y_m: float
+    yaw_rad: float
+    linear_mps: float
+    angular_radps: float
 
 
 def lidar_spec(config: SimpleNamespace) -> LidarSpec:
@@ -313,7 +329,8 @@ class Simulation:
     def __init__(self, world: World, physics_rate_hz: float, camera_rate_hz: float,
                  state_rate_hz: float, cmd_timeout_s: float, max_linear_accel_mps2: float,
                  max_angular_accel_radps2: float, encoding: str = 'bgr8',
-                 lidar: Optional[LidarSpec] = None, scan_rate_hz: float = 0.0):
+                 lidar: Optional[LidarSpec] = None, scan_rate_hz: float = 0.0,
+                 realism: Optional[Realism] = None, seed: int = 0):
         self.world = world
         self.physics_rate_hz = physics_rate_hz
         self.encoding = encoding
@@ -326,13 +343,38 @@ class Simulation:
         self._watchdog = CommandWatchdog(cmd_timeout_s)
         self._limiter = TwistLimiter(max_linear_accel_mps2, max_angular_accel_radps2)
         self._touched = frozenset()
+        self.realism = realism if realism is not None else Realism(
+            PRESETS['ideal'], world.camera.intrinsics, encoding, WHEEL_SEPARATION_M)
+        self.seed = seed
+        self._new_trial()
 
     @classmethod
     def from_config(cls, world: World, config: SimpleNamespace) -> 'Simulation':
-        """A Simulation of ``world`` with the rates and limits of a :func:`checked_config`."""
+        """A Simulation of ``world`` with the rates, limits and realism of a
+        :func:`checked_config`."""
+        realism = Realism(spec_from_config(config), world.camera.intrinsics, config.encoding,
+                          WHEEL_SEPARATION_M)
         return cls(world, config.physics_rate, config.camera_rate, config.state_rate,
                    config.cmd_timeout, config.max_linear_accel, config.max_angular_accel,
-                   config.encoding, lidar_spec(config), config.scan_rate)
+                   config.encoding, lidar_spec(config), config.scan_rate, realism, config.seed)
+
+    def _true_pose(self) -> Tuple[float, float, float]:
+        state = self.world.robot_state()
+        return state.position[0], state.position[1], state.yaw_rad
+
+    def _new_trial(self):
+        """Reseed the realism models from the world's seed and the can's place (a trial is the
+        same whatever ran before it) and start the odometry at the true pose."""
+        self.realism.new_trial(trial_key(self.seed, self.world.can_home), self._true_pose())
+
+    def odometry(self) -> Odometry2D:
+        """The robot's odometry now: the true pose and twist when the odometry has no error."""
+        if self.realism.spec.odometry_is_true:
+            state = self.world.robot_state()
+            return Odometry2D(state.position[0], state.position[1], state.yaw_rad,
+                              state.linear_velocity[0], state.angular_velocity[2])
+        odometry = self.realism.odometry
+        return Odometry2D(*odometry.pose, *odometry.twist)
 
     @property
     def time_s(self) -> float:
@@ -345,8 +387,9 @@ class Simulation:
         return self._limiter.linear_mps, self._limiter.angular_radps
 
     def command(self, linear_mps: float, angular_radps: float):
-        """A new velocity command, received now in sim time."""
-        self._watchdog.command(linear_mps, angular_radps, self.time_s)
+        """A new velocity command, received now in sim time (it acts after the command
+        latency)."""
+        self.realism.actuation.command(linear_mps, angular_radps, self.time_s)
 
     def reset_robot(self):
         """Robot back to the start pose at rest; the pending command is dropped. Frames, scans
@@ -364,9 +407,11 @@ class Simulation:
                                           self._scan_schedule) if schedule is not None]
 
     def reset(self):
-        """Robot back to the start pose at rest, can upright at its last placement."""
+        """Robot back to the start pose at rest, can upright at its last placement; the
+        realism models start the trial anew."""
         self.reset_robot()
         self.world.place_can(*self.world.can_home)
+        self._new_trial()
 
     def reset_trial(self, can_xy: Optional[Tuple[float, float]]) -> Tuple[bool, str]:
         """Robot at the start pose at rest, can upright at ``can_xy`` (odom, m) or, when None,
@@ -375,12 +420,18 @@ class Simulation:
         self.reset()
         if can_xy is None:
             return True, 'robot at the start, can at (%.3f, %.3f)' % self.world.can_home
-        return self.place_can(*can_xy)
+        placed = self.place_can(*can_xy)
+        self._new_trial()
+        return placed
 
-    def set_scene(self, scene: Scene):
-        """A new world (walls, obstacles, can); the robot back to the start pose at rest."""
+    def set_scene(self, scene: Scene, seed: Optional[int] = None):
+        """A new world (walls, obstacles, can), drawn from ``seed`` (the realism models' seed
+        too, when given); the robot back to the start pose at rest."""
         self.reset_robot()
         self.world.set_scene(scene)
+        if seed is not None:
+            self.seed = seed
+        self._new_trial()
 
     def place_can(self, x_m: float, y_m: float) -> Tuple[bool, str]:
         """Stand the can at (x, y) in odom (m) unless that is off the floor or overlaps a wall,
@@ -398,17 +449,33 @@ class Simulation:
 
     def step(self) -> StepResult:
         """Advance one physics step; render and scan when due."""
+        realism = self.realism
+        for acts_s, linear_mps, angular_radps in realism.actuation.arrived(self.time_s):
+            self._watchdog.command(linear_mps, angular_radps, acts_s)
         linear_mps, angular_radps = self._limiter.step(*self._watchdog.target(self.time_s),
                                                        1.0 / self.physics_rate_hz)
-        self.world.set_twist(linear_mps, angular_radps)
+        self.world.set_twist(*realism.actuation.wheels(linear_mps, angular_radps))
         self.world.step()
         self.steps += 1
+        if not realism.spec.odometry_is_true:
+            realism.odometry.update(self._true_pose(), 1.0 / self.physics_rate_hz)
         self._touched = self._touched | self.world.touched_objects()
-        image = (self.world.render(self.encoding) if self._camera_schedule.due(self.steps)
-                 else None)
-        scan = (self.world.scan(self.lidar) if self._scan_schedule is not None
+        if self._camera_schedule.due(self.steps):
+            self._capture()
+        delivered = realism.frames.due(self.time_s)
+        image_time_s, image = delivered[-1] if delivered else (None, None)
+        scan = (realism.scan(self.world.scan(self.lidar)) if self._scan_schedule is not None
                 and self._scan_schedule.due(self.steps) else None)
         if not self._state_schedule.due(self.steps):
-            return StepResult(self.time_s, image, False, frozenset(), scan)
+            return StepResult(self.time_s, image, False, frozenset(), scan, image_time_s)
         touched, self._touched = self._touched, frozenset()
-        return StepResult(self.time_s, image, True, touched, scan)
+        return StepResult(self.time_s, image, True, touched, scan, image_time_s)
+
+    def _capture(self):
+        """Render a frame as the camera sees it now and hand it to the frame delivery."""
+        camera = self.realism.camera
+        image = self.world.render(self.encoding, camera.light_direction)
+        if not camera.identity:
+            state = self.world.robot_state()
+            image = camera.apply(image, state.linear_velocity[0], state.angular_velocity[2])
+        self.realism.frames.capture(self.time_s, image)

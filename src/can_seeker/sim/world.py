@@ -364,8 +364,9 @@ class World:
             state.position, state.orientation_xyzw, mount.translation_m, mount.rotation_xyzw)
         return np.asarray(position), quaternion_matrix(*orientation)
 
-    def render_rgba(self) -> np.ndarray:
-        """The camera image as an HxWx4 uint8 RGBA array."""
+    def render_rgba(self, light_direction: Optional[Sequence[float]] = None) -> np.ndarray:
+        """The camera image as an HxWx4 uint8 RGBA array, lit from ``light_direction`` (a
+        vector toward the light, world frame) or by the renderer's fixed light."""
         client = self._client
         eye, rotation = self.camera_pose()
         view = client.computeViewMatrix(eye.tolist(), (eye + rotation[:, 0]).tolist(),
@@ -375,14 +376,18 @@ class World:
                                                        CLIP_NEAR_M, CLIP_FAR_M)
         renderer = (pybullet.ER_TINY_RENDERER if self.renderer_name == 'tiny'
                     else pybullet.ER_BULLET_HARDWARE_OPENGL)
+        lighting = {} if light_direction is None else {'lightDirection': list(light_direction)}
         _, _, rgba, _, _ = client.getCameraImage(camera.width, camera.height, view, projection,
                                                  renderer=renderer,
-                                                 flags=pybullet.ER_NO_SEGMENTATION_MASK)
+                                                 flags=pybullet.ER_NO_SEGMENTATION_MASK,
+                                                 **lighting)
         return np.asarray(rgba, dtype=np.uint8).reshape(camera.height, camera.width, 4)
 
-    def render(self, encoding: str = 'bgr8') -> np.ndarray:
-        """The camera image as an HxWx3 uint8 array in ``encoding`` ('bgr8' or 'rgb8')."""
-        return rgba_to_image(self.render_rgba(), encoding)
+    def render(self, encoding: str = 'bgr8',
+               light_direction: Optional[Sequence[float]] = None) -> np.ndarray:
+        """The camera image as an HxWx3 uint8 array in ``encoding`` ('bgr8' or 'rgb8'), lit as
+        in :meth:`render_rgba`."""
+        return rgba_to_image(self.render_rgba(light_direction), encoding)
 
     def close(self):
         """Disconnect from pybullet (the world is unusable afterwards)."""

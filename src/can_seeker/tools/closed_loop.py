@@ -7,7 +7,8 @@ unpaused; the monitors record from exactly that time. At the end the simulator i
 so the final state is measured on a still world.
 
 Shared by ``scripts/evaluate``, ``scripts/demo`` and the closed-loop rostests. Ground truth comes
-from the simulator: ``/odom`` (true base pose), ``/sim/can_pose``, ``/sim/contact`` and
+from the simulator: ``/sim/base_pose_ground_truth`` (true base pose; ``/odom`` is the robot's
+own estimate, which drifts with ``realism``), ``/sim/can_pose``, ``/sim/contact`` and
 ``/sim/contacts`` (what was touched). In rooms and world files each trial first rebuilds the world
 from its seed (``/sim/new_world``).
 """
@@ -17,11 +18,13 @@ import socket
 import subprocess
 import threading
 import time
+from xml.sax.saxutils import quoteattr
 
 import rosgraph
 import rospy
 from geometry_msgs.msg import PoseStamped, TwistStamped
 from nav_msgs.msg import Odometry
+from roslaunch.rlutil import resolve_launch_arguments
 from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty
 
@@ -31,6 +34,7 @@ from can_seeker.camera_geometry import yaw_from_quaternion
 from can_seeker.evaluation.trials import Contact, judge, path_length, pose_at
 
 STATE_TOPIC = '/can_stopper/state'
+TRUE_POSE_TOPIC = '/sim/base_pose_ground_truth'
 COMMAND_TOPIC = '/cmd_vel_stamped'
 LIVE_TIMEOUT_S = 60.0
 SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/new_world', '/sim/pause_physics',
@@ -52,18 +56,29 @@ def free_port() -> int:
         return probe.getsockname()[1]
 
 
+def parameter_launch(params, path):
+    """Write a launch file to ``path`` that sets each ``/node/param`` of ``params`` (loaded
+    after demo.launch, so its values win over the launch file's)."""
+    lines = ['<launch>'] + ['  <param name=%s value=%s/>' % (quoteattr(name), quoteattr(str(value)))
+                            for name, value in sorted(params.items())] + ['</launch>']
+    with open(path, 'w') as output:
+        output.write('\n'.join(lines) + '\n')
+
+
 class LaunchedSystem:
     """``roslaunch can_seeker demo.launch`` with its own master on a free port.
 
     A context manager: on entry ROS_MASTER_URI points at the new master (for this process and
     the launch) and its parameters are set, so ``rospy.init_node`` sees ``/use_sim_time``; on
-    exit the whole launch (its process group) is stopped.
+    exit the whole launch (its process group) is stopped. ``params`` (``/node/param`` ->
+    value) override any node parameter, also those demo.launch has no argument for.
     """
 
-    def __init__(self, launch_args, log_path, startup_timeout_s=60.0):
+    def __init__(self, launch_args, log_path, startup_timeout_s=60.0, params=None):
         self.launch_args = dict(launch_args)
         self.log_path = log_path
         self.startup_timeout_s = startup_timeout_s
+        self.params = dict(params or {})
         self.process = None
         self.log = None
 
@@ -71,7 +86,13 @@ class LaunchedSystem:
         port = free_port()
         uri = 'http://127.0.0.1:%d' % port
         os.environ['ROS_MASTER_URI'] = uri
-        command = ['roslaunch', '-p', str(port), 'can_seeker', 'demo.launch']
+        command = ['roslaunch', '-p', str(port)]
+        if self.params:
+            params_path = self.log_path + '.params.launch'
+            parameter_launch(self.params, params_path)
+            command += [resolve_launch_arguments(['can_seeker', 'demo.launch'])[0], params_path]
+        else:
+            command += ['can_seeker', 'demo.launch']
         command += ['%s:=%s' % item for item in sorted(self.launch_args.items())]
         self.log = open(self.log_path, 'w')
         self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT,
@@ -130,7 +151,7 @@ class TruthMonitor:
         self.commanding = threading.Event()
         self.first_command_s = None
         self.subscribers = [
-            rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=None),
+            rospy.Subscriber(TRUE_POSE_TOPIC, Odometry, self._on_true_pose, queue_size=None),
             rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None),
             rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=None),
             rospy.Subscriber('/sim/contacts', Contacts, self._on_contacts, queue_size=None),
@@ -176,7 +197,7 @@ class TruthMonitor:
             self.stopped_s = None
             self.seen_search = False
 
-    def _on_odom(self, message):
+    def _on_true_pose(self, message):
         if message.header.stamp.to_sec() <= self.start_s:
             return
         position = message.pose.pose.position
@@ -297,7 +318,8 @@ class TrialRunner:
         self.pause()
         pose, final_can, contact, path, stopped_s = self.monitor.snapshot()
         if pose is None or final_can is None:
-            raise RuntimeError('no ground truth from the simulator (/odom, /sim/can_pose)')
+            raise RuntimeError('no ground truth from the simulator (%s, /sim/can_pose)'
+                               % TRUE_POSE_TOPIC)
         time_to_stop = None if stopped_s is None else stopped_s - start_s
         with self.monitor.lock:
             contact_objects = sorted(self.monitor.contact_objects)

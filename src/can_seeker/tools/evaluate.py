@@ -12,6 +12,13 @@ Scale out: ``--jobs N`` runs N independent systems (each its own master on its o
 parallel and merges their results; ``--shard i/N`` runs every N-th trial from trial i - 1 and
 ``--merge a.json b.json ...`` merges shard records from anywhere. ``--repeat-check`` runs the
 trials twice and reports the largest per-trial difference (final pose, outcome).
+
+Real senses: ``--realism realistic`` (or ``harsh``) gives the simulator a noisy, late camera,
+drifting wheel odometry and imperfect motors; ``--param NODE/PARAM=VALUE`` sets any node
+parameter (e.g. one realism knob); ``--sweep NODE/PARAM=v1,v2,...`` (repeatable: a grid) runs
+the same seeds for every setting and writes a table, a JSON record and a PNG plot of success,
+true gap error, time to stop and contacts against the setting to ``--sweep-output``. The judge
+is always the simulator's ground truth, never the robot's odometry.
 """
 import argparse
 import json
@@ -28,17 +35,20 @@ from tqdm import tqdm
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
 from can_seeker.control.controller import PARAMS as CONTROL_PARAMS
+from can_seeker.sim.realism import REALISM_PRESETS
 from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
 from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
                                          compare_runs, merge_records, parse_shard,
                                          shard_indices)
+from can_seeker.evaluation.sweep import (parse_override, parse_sweep, plot_sweep,
+                                         setting_label, sweep_grid, sweep_table)
 from can_seeker.evaluation.trials import Criteria, summarise, summary_table
 
 SIM = defaults(SIM_PARAMS)
 CONTROL = defaults(CONTROL_PARAMS)
 WORLD_OPTIONS = ('world', 'obstacles', 'room_size', 'floor_rgba', 'wall_rgba', 'obstacle_rgba',
-                 'can_texture')
+                 'can_texture', 'realism')
 CONTROL_OPTIONS = ('scan_topic',)
 
 
@@ -77,6 +87,17 @@ def parse_args(argv):
     parser.add_argument('--scan-topic', default=CONTROL.scan_topic,
                         help='obstacle scan can_stopper drives by: /camera_scan (the camera), '
                         '/scan (the simulated lidar), or "" for none')
+    parser.add_argument('--realism', default=SIM.realism, choices=REALISM_PRESETS,
+                        help='sensor and actuator realism of the simulator')
+    parser.add_argument('--param', action='append', default=[], type=_override,
+                        metavar='NODE/PARAM=VALUE',
+                        help='set a node parameter, e.g. sim/camera_latency_s=0.1 (repeatable)')
+    parser.add_argument('--sweep', action='append', default=[], type=_sweep,
+                        metavar='NODE/PARAM=V1,V2,...',
+                        help='evaluate the same seeds at every value (repeatable: every '
+                        'combination); writes a table and a plot to --sweep-output')
+    parser.add_argument('--sweep-output', default='sweep', metavar='DIR',
+                        help='folder for sweep.md, sweep.json and sweep.png')
     parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=0.0,
@@ -113,6 +134,20 @@ def _room_size(text):
     return '%gx%g' % (length_m, width_m)
 
 
+def _override(text):
+    try:
+        return parse_override(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error))
+
+
+def _sweep(text):
+    try:
+        return parse_sweep(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error))
+
+
 def _shard(text):
     try:
         return parse_shard(text)
@@ -133,16 +168,18 @@ def launch_args(args):
             'world': world, 'obstacles': args.obstacles, 'room_length': room_length,
             'room_width': room_width, 'floor_rgba': args.floor_rgba,
             'wall_rgba': args.wall_rgba, 'obstacle_rgba': args.obstacle_rgba,
-            'can_texture': args.can_texture,
+            'can_texture': args.can_texture, 'realism': args.realism,
             'scan_topic': args.scan_topic, 'lockstep': str(args.lockstep).lower()}
 
 
 def settings(args):
     """The options that define the evaluation, for the JSON record."""
-    return {name: getattr(args, name) for name in (
+    record = {name: getattr(args, name) for name in (
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
         'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep', 'shard')
         + WORLD_OPTIONS + CONTROL_OPTIONS}
+    record['params'] = dict(args.param)
+    return record
 
 
 def run_trial(runner, args, index):
@@ -164,7 +201,7 @@ def run(args):
     log_path = args.log or os.path.join(tempfile.gettempdir(),
                                         'can_seeker_evaluate_%d.log' % os.getpid())
     results = []
-    with LaunchedSystem(launch_args(args), log_path) as system:
+    with LaunchedSystem(launch_args(args), log_path, params=dict(args.param)) as system:
         rospy.init_node('evaluate', disable_signals=True)
         system.wait_for_services()
         criteria = Criteria(stop_distance_m=rospy.get_param('/can_stopper/stop_distance'),
@@ -190,6 +227,8 @@ def child_command(args, shard, json_path):
                  'camera_height', 'camera_pitch', 'can_rgba', 'time_limit',
                  'real_time_factor') + WORLD_OPTIONS + CONTROL_OPTIONS:
         command += ['--' + name.replace('_', '-'), str(getattr(args, name))]
+    for name, value in args.param:
+        command += ['--param', '%s=%s' % (name.lstrip('/'), value)]
     if not args.lockstep:
         command.append('--no-lockstep')
     return command + ['--shard', '%d/%d' % shard, '--json', json_path]
@@ -235,7 +274,7 @@ def evaluate(args):
             with open(path) as record:
                 records.append(json.load(record))
         return merged(records)
-    if args.jobs > 1 or args.repeat_check:
+    if args.jobs > 1 or args.repeat_check or args.sweep:
         # rospy runs one node per process, and it is shut down after a run: each run of a
         # repeat check gets processes of its own
         return run_jobs(args)
@@ -267,8 +306,38 @@ def _number(value):
     return 'n/a' if value is None else '%.4f' % value
 
 
+def run_sweep(args):
+    """Evaluate every setting of the sweep grid on the same seeds; write the table, the JSON
+    record and the plot; exit 0 once every setting ran."""
+    os.makedirs(args.sweep_output, exist_ok=True)
+    rows, records = [], []
+    base_params = list(args.param)
+    for setting in sweep_grid(args.sweep):
+        args.param = base_params + sorted(setting.items())
+        print('evaluate: sweep setting %s' % setting_label(setting), file=sys.stderr)
+        results, criteria, record_settings = evaluate(args)
+        summary = summarise(results, criteria)
+        rows.append((setting, summary))
+        records.append({'setting': setting, 'settings': record_settings, 'summary': summary,
+                        'trials': [result.as_dict() for result in results]})
+    args.param = base_params
+    table = sweep_table(rows)
+    title = ('%d trials per setting from seed %d, %s world, realism %s'
+             % (args.trials, args.seed, args.world, args.realism))
+    with open(os.path.join(args.sweep_output, 'sweep.md'), 'w') as output:
+        output.write('%s\n\n%s\n' % (title, table))
+    with open(os.path.join(args.sweep_output, 'sweep.json'), 'w') as output:
+        json.dump({'title': title, 'settings': records}, output, indent=2)
+    plot_sweep(rows, os.path.join(args.sweep_output, 'sweep.png'), title)
+    print('\nevaluate sweep: %s\n%s\nwritten to %s (sweep.md, sweep.json, sweep.png)'
+          % (title, table, args.sweep_output))
+    sys.exit(0)
+
+
 def main():
     args = parse_args(rospy.myargv()[1:])
+    if args.sweep:
+        run_sweep(args)
     try:
         results, criteria, record_settings = evaluate(args)
         repeat = None
@@ -280,12 +349,13 @@ def main():
         sys.exit(130)
     summary = summarise(results, criteria)
     print('\nevaluate: %d trials, %s world, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, '
-          'can %s %s, scan %s' % (len(results), _world_text(record_settings),
+          'can %s %s, scan %s, realism %s' % (len(results), _world_text(record_settings),
                       record_settings['min_distance'], record_settings['max_distance'],
                       record_settings['width'], record_settings['height'],
                       record_settings['camera_height'], record_settings['camera_pitch'],
                       record_settings.get('can_texture', 'plain'),
-                      record_settings['can_rgba'], record_settings.get('scan_topic') or 'none'))
+                      record_settings['can_rgba'], record_settings.get('scan_topic') or 'none',
+                      record_settings.get('realism', 'ideal')))
     print(summary_table(summary))
     if args.json:
         record = {'settings': record_settings, 'summary': summary,
