@@ -78,8 +78,10 @@ def test_light_colour_temperature_is_what_white_balance_leaves_over():
                                100.0, atol=0.6)
 
 
-def test_auto_exposure_brings_a_dim_light_back_toward_the_render():
+def test_auto_exposure_starts_settled_and_follows_a_change_of_light():
     model = camera(light_intensity_min=0.5, light_intensity_max=0.5)
+    assert abs(model.apply(grey(100.0)).mean() - 100.0) < 1.0
+    model.intensity = 0.25
     means = [model.apply(grey(100.0)).mean() for _ in range(20)]
     assert abs(means[0] - 50.0) < 1.0
     assert abs(means[-1] - 100.0) < 2.0

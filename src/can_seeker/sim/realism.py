@@ -228,7 +228,8 @@ class CameraModel:
         return gain.astype(np.float32)[:, :, None]
 
     def new_trial(self, rng: np.random.Generator):
-        """Draw this trial's light and restart exposure and white balance from ``rng``."""
+        """Draw this trial's light and restart white balance from ``rng``; the exposure starts
+        settled on the light."""
         spec = self.spec
         self._rng = rng
         self.kelvin = float(rng.uniform(spec.light_kelvin_min, spec.light_kelvin_max))
@@ -238,7 +239,8 @@ class CameraModel:
                                           spec.light_elevation_max_deg))
         self.light_direction = (light_direction(azimuth_rad, elevation_deg)
                                 if spec.light_elevation_max_deg > 0.0 else None)
-        self.log_exposure_gain = 0.0
+        # The camera ran before the trial: its exposure has settled on this light.
+        self.log_exposure_gain = -math.log(self.intensity)
         self.log_wb_drift = np.zeros(3)
 
     def channel_gains(self) -> np.ndarray:
