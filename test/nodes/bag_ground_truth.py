@@ -1,5 +1,6 @@
 """Ground truth of the recorded simulator bag: where the can really was in every image, from
-/odom, /sim/can_pose, /tf_static and camera_info recorded with it."""
+the true pose (/sim/base_pose_ground_truth), /sim/can_pose, /tf_static and camera_info recorded
+with it."""
 import bisect
 import math
 import warnings
@@ -11,6 +12,8 @@ import tf2_ros
 
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
 
+TRUE_POSE_TOPIC = '/sim/base_pose_ground_truth'
+"""The true base pose; bags recorded before it existed have /odom, then the true pose too."""
 CAN_RADIUS_M = 0.033
 CAN_HEIGHT_M = 0.122
 CENTROID_TOLERANCE_PX = 3.0
@@ -26,22 +29,23 @@ class GroundTruth:
 
     def __init__(self, path):
         tf_core = tf2_ros.BufferCore()
-        self.odom, self.can, self.image_stamps, info = [], [], [], None
+        poses = {'/odom': [], TRUE_POSE_TOPIC: []}
+        self.can, self.image_stamps, info = [], [], None
         with rosbag.Bag(path) as bag:
             for topic, msg, _ in bag.read_messages(
-                    topics=['/tf_static', '/odom', '/sim/can_pose', '/camera/camera_info',
-                            '/camera/image_raw']):
+                    topics=['/tf_static', '/odom', TRUE_POSE_TOPIC, '/sim/can_pose',
+                            '/camera/camera_info', '/camera/image_raw']):
                 if topic == '/tf_static':
                     with warnings.catch_warnings():
                         # Bag messages are generated classes; tf2 warns, then copes.
                         warnings.simplefilter('ignore', UserWarning)
                         for transform in msg.transforms:
                             tf_core.set_transform_static(transform, 'bag')
-                elif topic == '/odom':
+                elif topic in poses:
                     pose = msg.pose.pose
                     yaw = 2.0 * math.atan2(pose.orientation.z, pose.orientation.w)
-                    self.odom.append((msg.header.stamp.to_sec(), pose.position.x,
-                                      pose.position.y, yaw))
+                    poses[topic].append((msg.header.stamp.to_sec(), pose.position.x,
+                                         pose.position.y, yaw))
                 elif topic == '/sim/can_pose':
                     self.can.append((msg.header.stamp.to_sec(), msg.pose.position.x,
                                      msg.pose.position.y))
@@ -49,6 +53,7 @@ class GroundTruth:
                     info = msg
                 elif topic == '/camera/image_raw':
                     self.image_stamps.append(msg.header.stamp.to_sec())
+        self.odom = poses[TRUE_POSE_TOPIC] or poses['/odom']
         self.intrinsics = intrinsics_from_k(info.width, info.height, info.K)
         transform = tf_core.lookup_transform_core('base_link', info.header.frame_id,
                                                   rospy.Time(0)).transform

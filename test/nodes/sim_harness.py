@@ -36,7 +36,7 @@ def red_blob(image, red_channel):
 
 
 class SimHarness:
-    """Records /odom, /sim/can_pose and /sim/contact with their stamps; drives via /cmd_vel."""
+    """Records the true pose (/sim/base_pose_ground_truth), /sim/can_pose and /sim/contact with their stamps; drives via /cmd_vel."""
 
     def __init__(self):
         self.lock = threading.Lock()
@@ -44,7 +44,7 @@ class SimHarness:
         self.contacts = []
         self.can_pose = None
         self.cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=10)
-        rospy.Subscriber('/odom', Odometry, self.on_odom)
+        rospy.Subscriber('/sim/base_pose_ground_truth', Odometry, self.on_odom)
         rospy.Subscriber('/sim/can_pose', PoseStamped, self.on_can_pose)
         rospy.Subscriber('/sim/contact', Bool, self.on_contact)
         rospy.wait_for_service('/sim/reset', timeout=30.0)

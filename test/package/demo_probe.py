@@ -39,7 +39,7 @@ class Watcher:
         self.can_xy = None
         rospy.Subscriber('/image_converter/detection', CanDetection, self.on_detection)
         rospy.Subscriber('/can_stopper/state', String, self.on_state)
-        rospy.Subscriber('/odom', Odometry, self.on_odom)
+        rospy.Subscriber('/sim/base_pose_ground_truth', Odometry, self.on_odom)
         rospy.Subscriber('/sim/can_pose', PoseStamped, self.on_can_pose)
 
     def on_detection(self, message):
