@@ -4,12 +4,21 @@ Every node lists its parameters once as a tuple of :class:`Param` in its pure mo
 reads them with :func:`read_params`, the launch files mirror the defaults as ``<arg>`` and the
 README table is printed by :func:`markdown_table` (a unit test keeps all three in step).
 A bad value (wrong type, NaN, out of range, not a choice) is reported and replaced by the
-default, so a typo in a launch file never takes a node down.
+default, so a typo in a launch file never takes a node down, except for a safety bound (a speed
+or acceleration limit, a clearance, a watchdog timeout; one with a declared ``safer`` side): no
+default is safe in place of what the user asked for (a crawl must not become full speed), so
+:func:`read_params` refuses the start.
 """
 import math
 from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Any, Callable, Optional, Sequence, Tuple
+
+SAFE_SIDES = ('lower', 'higher')
+
+
+class UnsafeParamError(ValueError):
+    """Safety bounds with invalid values: the node must not start (see :class:`Param` safer)."""
 
 
 @dataclass(frozen=True)
@@ -17,7 +26,8 @@ class Param:
     """One private node parameter.
 
     ``default`` fixes the type (bool, int, float or str). ``minimum``/``maximum`` bound numbers
-    (inclusive); ``choices`` restricts strings.
+    (inclusive); ``choices`` restricts strings. ``safer`` ('lower' or 'higher') marks a number
+    that bounds the robot's motion and says which side of it is the safe one.
     """
 
     name: str
@@ -26,6 +36,21 @@ class Param:
     minimum: Optional[float] = None
     maximum: Optional[float] = None
     choices: Optional[Tuple[str, ...]] = None
+    safer: Optional[str] = None
+
+    def __post_init__(self):
+        if self.safer is not None and (self.safer not in SAFE_SIDES
+                                       or type(self.default) not in (int, float)):
+            raise ValueError('~%s: safer must be one of %s, on a number'
+                             % (self.name, ', '.join(SAFE_SIDES)))
+
+    @property
+    def description(self) -> str:
+        """The doc, with the safe side of a safety bound (README table, launch arg doc)."""
+        if self.safer is None:
+            return self.doc
+        return '%s; safety bound, %s is safer: an invalid value stops the node' % (
+            self.doc, self.safer)
 
     def coerce(self, value):
         """Return ``value`` converted to this parameter's type, or raise ValueError saying why."""
@@ -64,16 +89,23 @@ def read_params(specs: Sequence[Param], get_param: Callable[[str, Any], Any],
                 warn: Callable[[str], None]) -> SimpleNamespace:
     """Read every ``~name`` in ``specs`` through ``get_param(name, default)``.
 
-    Invalid values are reported through ``warn`` and replaced by the default.
+    Invalid values are reported through ``warn`` and replaced by the default; invalid safety
+    bounds raise :class:`UnsafeParamError` naming all of them.
     """
-    values = {}
+    values, refused = {}, []
     for spec in specs:
         raw = get_param('~' + spec.name, spec.default)
         try:
             values[spec.name] = spec.coerce(raw)
         except ValueError as error:
+            if spec.safer is not None:
+                refused.append('~%s: %s (a safety bound, %s is safer)'
+                               % (spec.name, error, spec.safer))
+                continue
             warn('parameter ~%s: %s; using the default %r' % (spec.name, error, spec.default))
             values[spec.name] = spec.default
+    if refused:
+        raise UnsafeParamError('invalid safety bounds, not starting: ' + '; '.join(refused))
     return SimpleNamespace(**values)
 
 
@@ -94,5 +126,6 @@ def markdown_table(specs: Sequence[Param]) -> str:
     rows = ['| parameter | default | meaning |', '|---|---|---|']
     for spec in specs:
         default = launch_value(spec.default)
-        rows.append('| `~%s` | `%s` | %s |' % (spec.name, default if default else '""', spec.doc))
+        rows.append('| `~%s` | `%s` | %s |' % (spec.name, default if default else '""',
+                                               spec.description))
     return '\n'.join(rows)

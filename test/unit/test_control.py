@@ -2,6 +2,7 @@
 import math
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from can_seeker.camera_geometry import camera_pose_from_transform
@@ -9,6 +10,7 @@ from can_seeker.control.navigation import Pose2D
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
                                 camera_floor_pose, dead_band, detection_problem,
                                 detection_shows_can, sighting_from_detection)
+from can_seeker.params import read_params
 
 DEFAULTS = {spec.name: spec.default for spec in PARAMS}
 STOP = DEFAULTS['stop_distance']
@@ -17,7 +19,7 @@ DT = 1.0 / DEFAULTS['rate']
 
 def make_controller(**overrides):
     """A controller without obstacle sensing (the direct law), unless overridden."""
-    return Controller(SimpleNamespace(**dict(DEFAULTS, scan_topic='', **overrides)))
+    return Controller(SimpleNamespace(**{**DEFAULTS, 'scan_topic': '', **overrides}))
 
 
 def ahead(gap_m, bearing_deg=0.0):
@@ -418,3 +420,96 @@ def test_no_hysteresis_with_a_zero_gate():
     controller.observe(ahead(0.5), 0.0)
     controller.observe(Sighting(0.5, 0.0, DEFAULTS['min_confidence'] - 0.05), 0.05)
     assert controller.state is State.LOST
+
+
+# Robustness ----------------------------------------------------------------------------------
+
+def read_with(name, value):
+    """The controller's parameters with ``~name`` set to ``value``, and the warnings."""
+    warnings = []
+    values = read_params(PARAMS, lambda key, default: value if key == '~' + name else default,
+                         warnings.append)
+    return values, warnings
+
+
+@pytest.mark.parametrize('name,bad', [
+    ('max_linear', 0.005), ('max_linear', math.nan), ('max_linear', 'crawl'),
+    ('max_reverse', -0.1), ('max_angular', math.inf), ('max_linear_accel', 0.01),
+    ('max_angular_accel', True), ('explore_linear', 0.001), ('search_angular', 0.0),
+    ('detection_timeout', 20.0), ('scan_timeout', math.nan), ('odom_timeout', 'slow'),
+    ('robot_radius', -0.01), ('safety_margin', math.nan), ('stop_distance', 0.0),
+    ('obstacle_memory', 0.5), ('can_exclusion_radius', 2.0),
+])
+def test_an_invalid_motion_bound_is_refused_never_replaced_by_its_default(name, bad):
+    with pytest.raises(ValueError, match=name):
+        read_with(name, bad)
+
+
+def test_other_invalid_parameters_still_warn_and_use_the_default():
+    values, warnings = read_with('min_confidence', 1.5)
+    assert values.min_confidence == DEFAULTS['min_confidence']
+    assert len(warnings) == 1 and 'min_confidence' in warnings[0]
+
+
+def test_backing_up_stops_for_a_remembered_obstacle_behind():
+    def backing_up(obstacle_behind):
+        controller = make_controller(scan_topic='/scan')
+        controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+        if obstacle_behind:
+            controller.observe_scan(np.array([[-0.27, 0.0]]), np.array([True]), (0.0, 0.0), 0.0)
+        now, command = 0.0, None
+        for _ in range(40):
+            controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
+            controller.observe_scan(np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0), now)
+            controller.observe(ahead(STOP - 0.1), now)
+            command = controller.command(now)
+            now += DT
+        return command
+
+    assert backing_up(False)[0] == pytest.approx(-DEFAULTS['max_reverse'])
+    assert backing_up(True)[0] == 0.0
+
+
+def test_a_failed_tick_counts_as_a_zero_command():
+    controller = make_controller()
+    command, now = run(controller, ahead(1.5), 0.0, 3.0)
+    assert command[0] > 0.3
+    controller.observe(ahead(1.5), now)
+    controller.desired = failing
+    with pytest.raises(RuntimeError):
+        controller.command(now)
+    del controller.desired
+    controller.observe(ahead(1.5), now + DT)
+    linear, _ = controller.command(now + DT)
+    assert 0.0 <= linear <= DEFAULTS['max_linear_accel'] * DT + 1e-12
+
+
+def failing(_now_s):
+    raise RuntimeError('broken')
+
+
+def test_a_non_finite_desired_command_is_refused_not_limited():
+    controller = make_controller()
+    _, now = run(controller, ahead(1.5), 0.0, 3.0)
+    controller.observe(ahead(1.5), now)
+    controller.desired = lambda _now_s: (math.nan, 0.0)
+    with pytest.raises(ValueError, match='finite'):
+        controller.command(now)
+    assert controller.last_command == (0.0, 0.0)
+
+
+def test_a_late_old_detection_is_stale():
+    controller = make_controller()
+    command, now = run(controller, ahead(1.5), 0.0, 3.0)
+    assert command[0] > 0.3
+    controller.observe(ahead(1.5), now, image_stamp_s=now - DEFAULTS['detection_timeout'] - 0.1)
+    assert controller.command(now) == (0.0, 0.0)
+    controller.observe(ahead(1.5), now + DT, image_stamp_s=now)
+    assert controller.command(now + DT)[0] > 0.0
+
+
+def test_a_detection_stamped_in_the_future_ages_from_its_arrival():
+    controller = make_controller()
+    _, now = run(controller, ahead(1.5), 0.0, 3.0)
+    controller.observe(ahead(1.5), now, image_stamp_s=now + 100.0)
+    assert controller.command(now + DEFAULTS['detection_timeout']) == (0.0, 0.0)

@@ -142,7 +142,27 @@ def test_safe_linear_brakes_before_the_obstacle():
     assert avoidance.safe_linear(0.4, 2.0, 0.5, 0.03) == 0.4
     assert avoidance.safe_linear(0.4, 0.1, 0.5, 0.03) == pytest.approx(math.sqrt(2 * 0.5 * 0.07))
     assert avoidance.safe_linear(0.4, 0.02, 0.5, 0.03) == 0.0
-    assert avoidance.safe_linear(-0.1, 0.0, 0.5, 0.03) == -0.1
+
+
+def test_backing_up_brakes_before_the_obstacle_too():
+    assert avoidance.safe_linear(-0.1, 2.0, 0.5, 0.03) == -0.1
+    assert avoidance.safe_linear(-0.4, 0.1, 0.5, 0.03) == pytest.approx(-math.sqrt(2 * 0.5 * 0.07))
+    assert avoidance.safe_linear(-0.1, 0.0, 0.5, 0.03) == 0.0
+
+
+def test_an_unknown_free_travel_allows_no_motion():
+    assert avoidance.safe_linear(0.4, math.nan, 0.5, 0.03) == 0.0
+    assert avoidance.safe_linear(-0.1, math.nan, 0.5, 0.03) == 0.0
+
+
+def test_free_travel_backing_up_straight_and_on_an_arc():
+    behind = np.array([[-0.5, 0.0]])
+    assert avoidance.free_travel_m(behind, -0.1, 0.0, 0.2, 1.0) == pytest.approx(0.3, abs=0.03)
+    assert avoidance.free_travel_m(behind, 0.1, 0.0, 0.2, 1.0) == 1.0
+    # backing up while turning left swings the back to the right, onto a point there
+    behind_right = np.array([[-0.6, -0.25]])
+    assert avoidance.free_travel_m(behind_right, -0.2, 0.5, 0.25, 1.0) < 0.5
+    assert avoidance.free_travel_m(behind_right, -0.2, -0.5, 0.25, 1.0) == 1.0
 
 
 def test_clear_heading_picks_the_gap_nearest_the_target():

@@ -66,3 +66,17 @@ def test_readme_documents_every_parameter(script_name, module):
         default = launch_value(spec.default) or '""'
         row = '| `~%s` | `%s` |' % (spec.name, default)
         assert row in readme, 'README lacks the row for %s ~%s' % (script_name, spec.name)
+
+
+@pytest.mark.parametrize('script_name,module', NODES, ids=[name for name, _ in NODES])
+def test_safety_bounds_say_so_in_the_readme_and_launch_file(script_name, module):
+    """The README row and the node's own launch file show a safety bound's safe side."""
+    readme = (ROOT / 'README.md').read_text()
+    for spec in module.PARAMS:
+        if spec.safer is None:
+            continue
+        row = '| `~%s` | `%s` | %s |' % (spec.name, launch_value(spec.default), spec.description)
+        assert row in readme, 'README row of %s ~%s lacks its safe side' % (script_name, spec.name)
+        launch = ET.parse(ROOT / 'launch' / ('%s.launch' % script_name)).getroot()
+        docs = {arg.get('name'): arg.get('doc') for arg in launch.iter('arg')}
+        assert docs[spec.name] == spec.description, '%s.launch: ~%s' % (script_name, spec.name)

@@ -3,7 +3,8 @@ import math
 
 import pytest
 
-from can_seeker.params import Param, defaults, launch_value, markdown_table, read_params
+from can_seeker.params import (Param, UnsafeParamError, defaults, launch_value, markdown_table,
+                               read_params)
 
 SPECS = (
     Param('rate', 20.0, 'loop rate (Hz)', minimum=0.1, maximum=1000.0),
@@ -59,3 +60,52 @@ def test_launch_value_and_markdown_table():
 def test_defaults_by_name():
     values = defaults(SPECS)
     assert (values.rate, values.width, values.gui, values.renderer) == (20.0, 320, False, 'auto')
+
+
+SAFETY_SPECS = (
+    Param('max_speed', 0.4, 'speed limit (m/s)', minimum=0.01, maximum=2.0, safer='lower'),
+    Param('margin', 0.05, 'clearance (m)', minimum=0.0, maximum=1.0, safer='higher'),
+    Param('gain', 1.5, 'gain (1/s)', minimum=0.05, maximum=10.0),
+)
+
+
+@pytest.mark.parametrize('given', [
+    {'~max_speed': 0.005}, {'~max_speed': math.nan}, {'~max_speed': 'crawl'},
+    {'~max_speed': True}, {'~margin': -0.1}, {'~margin': 2.0},
+])
+def test_an_invalid_safety_bound_refuses_the_start(given):
+    with pytest.raises(UnsafeParamError) as refused:
+        read_params(SAFETY_SPECS, lambda name, default: given.get(name, default), print)
+    assert next(iter(given))[1:] in str(refused.value)
+
+
+def test_every_invalid_safety_bound_is_named_at_once():
+    given = {'~max_speed': 0.0, '~margin': math.nan, '~gain': 'x'}
+    warnings = []
+    with pytest.raises(UnsafeParamError) as refused:
+        read_params(SAFETY_SPECS, lambda name, default: given.get(name, default),
+                    warnings.append)
+    assert 'max_speed' in str(refused.value) and 'margin' in str(refused.value)
+    assert len(warnings) == 1 and '~gain' in warnings[0]
+
+
+def test_valid_safety_bounds_are_taken_as_given():
+    given = {'~max_speed': 0.01, '~margin': 1.0}
+    values = read_params(SAFETY_SPECS, lambda name, default: given.get(name, default), print)
+    assert (values.max_speed, values.margin, values.gain) == (0.01, 1.0, 1.5)
+
+
+def test_the_safe_side_is_documented():
+    assert 'lower is safer' in SAFETY_SPECS[0].description
+    assert 'higher is safer' in SAFETY_SPECS[1].description
+    assert SAFETY_SPECS[2].description == 'gain (1/s)'
+    assert SAFETY_SPECS[0].description in markdown_table(SAFETY_SPECS)
+
+
+@pytest.mark.parametrize('kwargs', [
+    dict(name='x', default=1.0, doc='d', safer='faster'),
+    dict(name='x', default='a', doc='d', safer='lower'),
+])
+def test_a_safe_side_needs_a_number_and_a_direction(kwargs):
+    with pytest.raises(ValueError):
+        Param(**kwargs)

@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from can_seeker.control.twist_limits import TwistLimits, limit_twist, step_toward
+from can_seeker.control.twist_limits import TwistLimits, clamp, limit_twist, step_toward
 
 LIMITS = TwistLimits(max_forward=0.4, max_reverse=0.1, max_angular=1.0, linear_accel=0.5,
                      angular_accel=2.0)
@@ -39,3 +39,22 @@ def test_reaches_exact_zero():
 @pytest.mark.parametrize('dt_s', [-0.5, math.nan, math.inf])
 def test_clock_jumps_allow_no_change(dt_s):
     assert limit_twist((0.2, 0.3), (0.0, 0.0), dt_s, LIMITS) == (0.2, 0.3)
+
+
+@pytest.mark.parametrize('previous,desired', [
+    ((0.0, 0.0), (math.nan, math.nan)), ((0.0, 0.0), (0.2, math.nan)),
+    ((0.3, 0.5), (math.nan, 0.0)), ((0.0, 0.0), (math.inf, 0.0)), ((math.nan, 0.0), (0.2, 0.0)),
+])
+def test_a_non_finite_value_gives_zero_never_a_limit(previous, desired):
+    assert limit_twist(previous, desired, 0.05, LIMITS) == (0.0, 0.0)
+
+
+def test_non_finite_limits_give_zero():
+    limits = TwistLimits(math.nan, 0.1, 1.0, 0.5, 2.0)
+    assert limit_twist((0.0, 0.0), (0.2, 0.5), 0.05, limits) == (0.0, 0.0)
+
+
+def test_clamp_refuses_nan():
+    with pytest.raises(ValueError):
+        clamp(math.nan, -1.0, 1.0)
+    assert clamp(math.inf, -1.0, 1.0) == 1.0

@@ -2,11 +2,11 @@
 
 Obstacles are points on the floor in base_link (x forward, y left). The robot is a circle of
 ``radius_m`` about base_link, so turning in place can never hit anything it does not touch
-already; driving sweeps a corridor along the arc of the commanded (linear, angular). The free
-travel is how far the robot can go along that arc before its circle, grown by a margin, would
-touch a point (each point may carry its own clearance: a remembered obstacle is one hit per
-map cell, the rest of it may stand nearer); the speed is capped so the deceleration limit stops it within
-that distance.
+already; driving, forward or backward, sweeps a corridor along the arc of the commanded
+(linear, angular). The free travel is how far the robot can go along that arc before its circle,
+grown by a margin, would touch a point (each point may carry its own clearance: a remembered
+obstacle is one hit per map cell, the rest of it may stand nearer); the speed is capped so the
+deceleration limit stops it within that distance.
 """
 import math
 from typing import Sequence, Tuple, Union
@@ -20,13 +20,16 @@ CLOSER_TOLERANCE_M = 1e-6
 
 def arc_poses(linear: float, angular: float, length_m: float) -> np.ndarray:
     """(x, y) of base_link after travelling 0, step, ... ``length_m`` along the arc of a
-    (linear, angular) command (M x 2, base_link at the start)."""
+    (linear, angular) command, backward for a negative linear (M x 2, base_link at the
+    start)."""
     travel = np.arange(0.0, length_m + 1e-9, ARC_STEP_M)
-    curvature = angular / linear if linear > 1e-6 else 0.0
+    direction = -1.0 if linear < 0.0 else 1.0
+    curvature = angular / abs(linear) if abs(linear) > 1e-6 else 0.0
     if abs(curvature) < 1e-6:
-        return np.stack((travel, np.zeros_like(travel)), axis=-1)
+        return np.stack((direction * travel, np.zeros_like(travel)), axis=-1)
     heading = curvature * travel
-    return np.stack((np.sin(heading) / curvature, (1.0 - np.cos(heading)) / curvature), axis=-1)
+    return direction * np.stack((np.sin(heading) / curvature,
+                                 (1.0 - np.cos(heading)) / curvature), axis=-1)
 
 
 def free_travel_m(points: np.ndarray, linear: float, angular: float,
@@ -50,14 +53,13 @@ def free_travel_m(points: np.ndarray, linear: float, angular: float,
 
 
 def safe_linear(linear: float, free_m: float, decel_mps2: float, reserve_m: float) -> float:
-    """Forward speed capped so braking at ``decel_mps2`` stops ``reserve_m`` short of
-    ``free_m``; backing up and stopping are never limited."""
-    if linear <= 0.0:
-        return linear
+    """Speed, forward or backward, capped so braking at ``decel_mps2`` stops ``reserve_m``
+    short of ``free_m`` (the free travel in the direction of ``linear``); zero when either is
+    not a number."""
     room_m = free_m - reserve_m
-    if room_m <= 0.0:
+    if not (room_m > 0.0 and math.isfinite(linear)):
         return 0.0
-    return min(linear, math.sqrt(2.0 * decel_mps2 * room_m))
+    return math.copysign(min(abs(linear), math.sqrt(2.0 * decel_mps2 * room_m)), linear)
 
 
 def far_from(points: np.ndarray, centre_xy: Sequence[float], radius_m: float) -> np.ndarray:

@@ -17,13 +17,14 @@ fixed rate):
   ``lost_timeout`` without it, SEARCH.
 - WANDER (``behaviour`` wander, no can): drive straight, turn away from obstacles ahead.
 
-With a range scan (``scan_topic``), every command passes a safety layer: the forward speed is
-capped by the free travel along the command's arc (live scan plus remembered obstacles, the
-can excluded while it is the target), so the robot never drives into anything it sensed. A
-stale scan or odometry allows no forward motion.
+With a range scan (``scan_topic``), every command passes a safety layer: the speed, forward
+or backward, is capped by the free travel along the command's arc (live scan plus remembered
+obstacles, the can excluded while it is the target), so the robot never drives into anything it
+sensed. A stale scan or odometry allows no driving, only turning.
 
-A detection message that is too old (``detection_timeout``) gives a zero command whatever the
-state: a dead camera pipeline must never leave the robot driving.
+A detection whose image is too old (``detection_timeout``, by the image's stamp, so a late old
+image is no news) gives a zero command whatever the state: a dead or lagging camera pipeline
+must never leave the robot driving. A command that is not finite is an error, never a limit.
 
 Geometry (REP-103, base_link on the floor below the axle midpoint): a detection gives the
 horizontal range from the camera to the can's near surface and the bearing from the camera.
@@ -44,12 +45,13 @@ from can_seeker.params import Param
 from can_seeker.control import avoidance
 from can_seeker.control.navigation import CLEAR_AHEAD_M, GOAL_REACHED_M, CameraView, Navigator, \
     Pose2D
-from can_seeker.control.twist_limits import TwistLimits, limit_twist
+from can_seeker.control.twist_limits import TwistLimits, limit_twist, require_finite
 
 PARAMS = (
     Param('rate', 20.0, 'rate of the /cmd_vel commands from the control timer (Hz)', 1.0, 200.0),
     Param('stop_distance', 0.25,
-          'gap between the robot front and the can near surface when stopped (m)', 0.02, 3.0),
+          'gap between the robot front and the can near surface when stopped (m)', 0.02, 3.0,
+          safer='higher'),
     Param('distance_tolerance', 0.01,
           'STOPPED once the gap is within this of stop_distance and the robot is at rest; '
           'the approach aims at the middle half of the band (m)', 0.001, 0.5),
@@ -61,24 +63,26 @@ PARAMS = (
           0.002, 1.0),
     Param('reapproach_bearing_deg', 6.0,
           'STOPPED turns again when the can bearing exceeds this (deg)', 0.2, 90.0),
-    Param('max_linear', 0.4, 'forward speed limit (m/s)', 0.01, 2.0),
+    Param('max_linear', 0.4, 'forward speed limit (m/s)', 0.01, 2.0, safer='lower'),
     Param('min_linear', 0.03,
           'slowest approach speed outside the dead-band, so the robot really arrives (m/s)',
           0.0, 0.5),
     Param('max_reverse', 0.1, 'backing-up speed limit when closer than stop_distance (m/s)',
-          0.0, 1.0),
-    Param('max_angular', 1.2, 'turn rate limit (rad/s)', 0.05, 6.0),
+          0.0, 1.0, safer='lower'),
+    Param('max_angular', 1.2, 'turn rate limit (rad/s)', 0.05, 6.0, safer='lower'),
     Param('min_angular', 0.08,
           'slowest corrective turn rate outside the dead-band (rad/s)', 0.0, 1.0),
     Param('max_linear_accel', 0.5, 'linear acceleration and deceleration limit (m/s^2)',
-          0.05, 5.0),
-    Param('max_angular_accel', 3.0, 'angular acceleration limit (rad/s^2)', 0.1, 20.0),
+          0.05, 5.0, safer='lower'),
+    Param('max_angular_accel', 3.0, 'angular acceleration limit (rad/s^2)', 0.1, 20.0,
+          safer='lower'),
     Param('linear_gain', 1.5, 'approach speed per metre of gap error (1/s)', 0.05, 10.0),
     Param('angular_gain', 2.0, 'turn rate per radian of bearing error (1/s)', 0.05, 20.0),
     Param('turn_in_place_deg', 25.0,
           'APPROACH drives forward only while the bearing is within this, at full speed when '
           'it is zero (deg)', 1.0, 90.0),
-    Param('search_angular', 0.8, 'turn rate in SEARCH and LOST (rad/s)', 0.05, 3.0),
+    Param('search_angular', 0.8, 'turn rate in SEARCH and LOST (rad/s)', 0.05, 3.0,
+          safer='lower'),
     Param('lost_timeout', 5.0, 'LOST becomes SEARCH after this long without the can (s)',
           0.0, 120.0),
     Param('vanish_timeout', 1.5, 'STOPPED becomes LOST when the can has not been seen with a '
@@ -87,8 +91,10 @@ PARAMS = (
           'image (on /cmd_vel and cmd_vel_stamped; for a simulator in lockstep); the timer then '
           'sends only the zero of a stale detection'),
     Param('detection_timeout', 0.5,
-          'no detection message for this long: zero Twist until one arrives (s)', 0.05, 10.0),
-    Param('robot_radius', 0.165, 'radius of the robot body about base_link (m)', 0.0, 2.0),
+          'zero Twist while the newest detection shows an image older than this, by its header '
+          'stamp (by its arrival when stamped later) (s)', 0.05, 10.0, safer='lower'),
+    Param('robot_radius', 0.165, 'radius of the robot body about base_link (m)', 0.0, 2.0,
+          safer='higher'),
     Param('can_radius', 0.033, 'radius of the can (m)', 0.0, 0.5),
     Param('can_height', 0.122, 'height of the can, for the floor the camera covers (m)',
           0.0, 2.0),
@@ -111,9 +117,10 @@ PARAMS = (
           'sensor_msgs/LaserScan of obstacles (camera scan or lidar, any frame in TF); empty: '
           'no obstacle sensing, no exploration'),
     Param('odom_topic', '/odom', 'nav_msgs/Odometry of the robot in the odom frame'),
-    Param('scan_timeout', 0.5, 'no scan for this long: no forward motion (s)', 0.05, 10.0),
+    Param('scan_timeout', 0.5, 'no scan for this long: no driving forward or back, only '
+          'turning (s)', 0.05, 10.0, safer='lower'),
     Param('odom_timeout', 0.5, 'no odometry for this long: no exploring or path driving (s)',
-          0.05, 10.0),
+          0.05, 10.0, safer='lower'),
     Param('grid_resolution', 0.1, 'cell size of the odom-frame obstacle and coverage grid (m)',
           0.02, 1.0),
     Param('map_size', 20.0, 'side of the square grid about the odom origin (m)', 2.0, 200.0),
@@ -123,20 +130,21 @@ PARAMS = (
     Param('plan_margin', 0.15, 'clearance kept from obstacles on planned paths, beyond '
           'robot_radius (m)', 0.0, 1.0),
     Param('safety_margin', 0.05, 'clearance the safety layer keeps from any sensed obstacle, '
-          'beyond robot_radius (m)', 0.0, 1.0),
+          'beyond robot_radius (m)', 0.0, 1.0, safer='higher'),
     Param('explore_linear', 0.3, 'cruise speed while exploring, on paths and wandering (m/s)',
-          0.01, 2.0),
+          0.01, 2.0, safer='lower'),
     Param('explore_turn_cost', 0.3, 'exploration prefers goals ahead: metres of path one '
           'radian of turning is worth (m/rad)', 0.0, 10.0),
     Param('replan_period', 1.0, 'paths and exploration goals are planned again this often (s)',
           0.1, 10.0),
     Param('can_exclusion_radius', 0.25, 'range returns within this of the target can\'s '
           'estimated centre are the can (or its shadow), not an obstacle; below stop_distance '
-          '+ can_radius, the direct approach never brings the robot to them (m)', 0.0, 1.0),
+          '+ can_radius, the direct approach never brings the robot to them (m)', 0.0, 1.0,
+          safer='lower'),
     Param('obstacle_memory', 15.0, 'the safety layer avoids a remembered obstacle until scans '
           'have had it in their blind zone (nearer than range_min) for this long since one last '
           'saw it (no ray can clear a phantom there); out of view it is kept until a scan sees '
-          'its place free (s)', 1.0, 600.0),
+          'its place free (s)', 1.0, 600.0, safer='higher'),
     Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
           'ahead (m)', 0.05, 5.0),
 )
@@ -280,7 +288,7 @@ class Controller:
         self.turn_sign = 1.0
         self.sighting: Optional[Sighting] = None
         self.can_xy: Optional[Tuple[float, float]] = None
-        self.last_message_s: Optional[float] = None
+        self.last_image_s: Optional[float] = None
         self.lost_since_s = 0.0
         self.seen_since_stop_s = 0.0
         self.last_command: Tuple[float, float] = (0.0, 0.0)
@@ -311,10 +319,12 @@ class Controller:
                 image_stamp_s: float = math.inf) -> None:
         """Take one detection message received at ``now_s`` of an image taken at
         ``image_stamp_s``: ``sighting`` is its red object (None when it showed none), taken
-        as the can by its confidence (see :meth:`_shows_can`)."""
+        as the can by its confidence (see :meth:`_shows_can`). The detection is as fresh as its
+        image (an old image that arrives late is no news), but never fresher than its arrival
+        (a clock ahead of ours must not keep it fresh)."""
         if image_stamp_s < self.ignore_before_s or self.wander:
             return
-        self.last_message_s = now_s
+        self.last_image_s = min(now_s, image_stamp_s)
         can_xy = None if sighting is None else self._can_xy_of(sighting)
         if sighting is not None and not self._shows_can(sighting, can_xy):
             sighting, can_xy = None, None
@@ -394,14 +404,13 @@ class Controller:
         self.camera_view = view
 
     def is_stale(self, now_s: float) -> bool:
-        """True when the last detection message will be older than ``detection_timeout``
-        before the next control tick: a command is executed for one control period, so the
-        zero goes out no later than the timeout. WANDER needs no detections."""
+        """True when the image of the last detection message will be older than
+        ``detection_timeout`` before the next control tick: a command is executed for one
+        control period, so the zero goes out no later than the timeout. WANDER needs no
+        detections."""
         if self.wander:
             return not self._fresh(self.pose_s, self.config.odom_timeout, now_s)
-        return (self.last_message_s is None
-                or now_s + 1.0 / self.config.rate - self.last_message_s
-                > self.config.detection_timeout)
+        return not self._fresh(self.last_image_s, self.config.detection_timeout, now_s)
 
     def _fresh(self, stamp_s: Optional[float], timeout_s: float, now_s: float) -> bool:
         return stamp_s is not None and now_s + 1.0 / self.config.rate - stamp_s <= timeout_s
@@ -534,9 +543,10 @@ class Controller:
         return self._toward_can(now_s)
 
     def _safe(self, command: Tuple[float, float], now_s: float) -> Tuple[float, float]:
-        """The safety layer: forward speed within what the sensed obstacles allow."""
+        """The safety layer: speed, forward or backward, within what the sensed obstacles
+        allow along the command's arc."""
         linear, angular = command
-        if not self.senses_obstacles or linear <= 0.0:
+        if not self.senses_obstacles or linear == 0.0:
             return command
         if not (self._fresh(self.scan_s, self.config.scan_timeout, now_s)
                 and self._fresh(self.pose_s, self.config.odom_timeout, now_s)):
@@ -570,7 +580,19 @@ class Controller:
             self.progress = (covered, now_s)
 
     def command(self, now_s: float) -> Tuple[float, float]:
-        """The (linear m/s, angular rad/s) command to send at ``now_s``."""
+        """The (linear m/s, angular rad/s) command to send at ``now_s``.
+
+        Raises when the tick fails (ValueError for a non-finite command); the node then sends
+        zero, so the controller counts the tick as a zero: the next command starts from rest
+        within the acceleration limits.
+        """
+        try:
+            return self._command(now_s)
+        except Exception:
+            self.last_command = (0.0, 0.0)
+            raise
+
+    def _command(self, now_s: float) -> Tuple[float, float]:
         dt_s = 0.0 if self.last_command_s is None else now_s - self.last_command_s
         self.last_command_s = now_s
         if self.is_stale(now_s):
@@ -578,7 +600,7 @@ class Controller:
             return self.last_command
         if self.state is State.LOST and now_s - self.lost_since_s > self.config.lost_timeout:
             self._enter(State.SEARCH)
-        desired = self.desired(now_s)
+        desired = require_finite(self.desired(now_s), '%s command' % self.state.value)
         desired = self._safe(desired, now_s)
         linear, angular = self._safe(limit_twist(self.last_command, desired, dt_s, self.limits),
                                      now_s)

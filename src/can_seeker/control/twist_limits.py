@@ -1,11 +1,15 @@
 """Velocity and acceleration limits for a planar (linear, angular) velocity command.
 
 Kept apart from the controller's state machine so the same limits apply whatever the state
-asks for, and so they can be tested on their own.
+asks for, and so they can be tested on their own. Every comparison with NaN is false, so
+min/max would turn a NaN into a limit: a non-finite value is refused (ValueError) or yields
+zero, never a speed.
 """
 import math
-from dataclasses import dataclass
-from typing import Tuple
+from dataclasses import astuple, dataclass
+from typing import Sequence, Tuple
+
+ZERO = (0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -25,8 +29,22 @@ class TwistLimits:
 
 
 def clamp(value: float, low: float, high: float) -> float:
-    """``value`` limited to [low, high]."""
+    """``value`` limited to [low, high]; ValueError for a NaN, which has no place in it."""
+    if math.isnan(value) or math.isnan(low) or math.isnan(high):
+        raise ValueError('cannot clamp %r to [%r, %r]' % (value, low, high))
     return max(low, min(high, value))
+
+
+def require_finite(command: Tuple[float, float], what: str = 'command') -> Tuple[float, float]:
+    """``command`` unchanged; ValueError naming ``what`` when a part of it is not finite."""
+    if not all_finite(command):
+        raise ValueError('%s %r is not finite' % (what, tuple(command)))
+    return command
+
+
+def all_finite(values: Sequence[float]) -> bool:
+    """True when no value is NaN or infinite."""
+    return all(math.isfinite(value) for value in values)
 
 
 def step_toward(current: float, target: float, max_step: float) -> float:
@@ -40,8 +58,10 @@ def limit_twist(previous: Tuple[float, float], desired: Tuple[float, float], dt_
 
     ``desired`` is first clipped to the speed limits, then approached no faster than the
     acceleration limits allow. A negative or non-finite ``dt_s`` (a clock that jumped) permits
-    no change at all rather than an unbounded one.
+    no change at all rather than an unbounded one. A non-finite command or limit gives zero.
     """
+    if not all_finite(tuple(previous) + tuple(desired) + astuple(limits)):
+        return ZERO
     if not math.isfinite(dt_s) or dt_s < 0.0:
         dt_s = 0.0
     linear = clamp(desired[0], -limits.max_reverse, limits.max_forward)

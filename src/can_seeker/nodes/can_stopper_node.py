@@ -7,9 +7,12 @@ and ``~scan_topic`` (sensor_msgs/LaserScan of obstacles, any frame in TF); publi
 command stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep`` once per
 detection, stamped like its image; ``~state`` (std_msgs/String, latched); ``~reset``
 (std_srvs/Empty) returns to SEARCH and forgets the map. The behaviour is
-:mod:`can_seeker.control.controller`.
+:mod:`can_seeker.control.controller`. Invalid safety bounds among the parameters stop the node
+at start (exit status 1); every control tick ends in a published command, zero when anything in
+it failed.
 """
 import math
+import sys
 import threading
 import time
 
@@ -29,8 +32,10 @@ from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, 
 from can_seeker.control.frame_inputs import FrameInputs
 from can_seeker.control.navigation import Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
+from can_seeker.control.tick_guard import TickGuard
+from can_seeker.control.twist_limits import ZERO, require_finite
 from can_seeker.msg import CanDetection
-from can_seeker.params import read_params
+from can_seeker.params import UnsafeParamError, read_params
 
 BASE_FRAME = 'base_link'
 COVERAGE_PERIOD_S = 1.0
@@ -53,9 +58,10 @@ def twist(linear, angular):
 class CanStopperNode:
     """Glue between ROS and :class:`can_seeker.control.controller.Controller`."""
 
-    def __init__(self):
-        self.params = read_params(PARAMS, rospy.get_param, rospy.logwarn)
-        self.controller = Controller(self.params)
+    def __init__(self, params):
+        self.params = params
+        self.controller = Controller(params)
+        self.guard = TickGuard(lambda message: rospy.logerr('can_stopper: %s' % message))
         self.lock = threading.Lock()
         self.shutting_down = False
         self.camera_poses = {}
@@ -205,31 +211,48 @@ class CanStopperNode:
             elif kind == 'scan':
                 self.controller.observe_scan(*value[:3], stamp_s, value[3])
             elif not self.shutting_down:
-                self.controller.observe(value, stamp_s, stamp_s)
-                self.publish_command(self.controller.command(stamp_s),
-                                     rospy.Time.from_sec(stamp_s))
+                stamp = rospy.Time.from_sec(stamp_s)
+                self.guard.run(lambda: self.answer_frame(value, stamp_s, stamp),
+                               lambda: self.publish_command(ZERO, stamp), stamp_s)
+
+    def answer_frame(self, sighting, stamp_s, stamp):
+        """Lockstep: the command for the frame of this detection, stamped like its image."""
+        self.controller.observe(sighting, stamp_s, stamp_s)
+        self.publish_command(self.controller.command(stamp_s), stamp)
 
     def publish_command(self, command, stamp):
-        """``command`` (linear m/s, angular rad/s) on /cmd_vel and, stamped, on cmd_vel_stamped."""
-        message = twist(*command)
+        """``command`` (linear m/s, angular rad/s) on /cmd_vel and, stamped, on cmd_vel_stamped;
+        ValueError for a non-finite one."""
+        message = twist(*require_finite(command))
         stamped = TwistStamped(twist=message)
         stamped.header.stamp = stamp
         self.cmd_pub.publish(message)
         self.stamped_cmd_pub.publish(stamped)
 
     def on_timer(self, _event):
+        """One control tick; whatever fails in it, it ends in a published command (zero) and
+        the timer lives on."""
+        now = rospy.get_time()
+        self.guard.run(lambda: self.tick(now), lambda: self.publish_zero(now), now)
+
+    def publish_zero(self, now):
+        """The zero of a failed tick, unless the shutdown zeros went out already."""
+        with self.lock:
+            if not self.shutting_down:
+                self.publish_command(ZERO, rospy.Time.from_sec(now))
+
+    def tick(self, now):
         """One control tick; publishes under the lock so no tick can follow the shutdown zeros.
         In lockstep only a stale detection's zero goes out (detections bring the commands)."""
-        now = rospy.get_time()
         with self.lock:
             if self.shutting_down:
                 return
-            stale = self.controller.is_stale(now) and self.controller.last_message_s is not None
+            stale = self.controller.is_stale(now) and self.controller.last_image_s is not None
             if not self.params.lockstep:
                 self.publish_command(self.controller.command(now), rospy.Time.from_sec(now))
             elif stale:
                 # Leaves the controller's command history alone: its timing stays the frames'.
-                self.publish_command((0.0, 0.0), rospy.Time.from_sec(now))
+                self.publish_command(ZERO, rospy.Time.from_sec(now))
             coverage = None
             if (self.controller.senses_obstacles
                     and abs(now - self.coverage_s) >= COVERAGE_PERIOD_S):
@@ -238,7 +261,7 @@ class CanStopperNode:
         if coverage is not None:
             self.publish_coverage(coverage, now)
         if stale:
-            rospy.logwarn_throttle(5.0, 'can_stopper: no %s for over %.2f s: zero Twist'
+            rospy.logwarn_throttle(5.0, 'can_stopper: no %s fresher than %.2f s: zero Twist'
                                    % (('odometry', self.params.odom_timeout)
                                       if self.controller.wander
                                       else ('detection', self.params.detection_timeout)))
@@ -282,11 +305,16 @@ class CanStopperNode:
             self.shutting_down = True
         self.timer.shutdown()
         for _ in range(SHUTDOWN_ZERO_COUNT):
-            self.publish_command((0.0, 0.0), rospy.Time.from_sec(rospy.get_time()))
+            self.publish_command(ZERO, rospy.Time.from_sec(rospy.get_time()))
             time.sleep(SHUTDOWN_ZERO_SPACING_S)
 
 
 def main():
     rospy.init_node('can_stopper')
-    CanStopperNode()
+    try:
+        params = read_params(PARAMS, rospy.get_param, rospy.logwarn)
+    except UnsafeParamError as error:
+        rospy.logfatal('can_stopper: %s' % error)
+        sys.exit(1)
+    CanStopperNode(params)
     rospy.spin()
