@@ -263,3 +263,14 @@ def test_simulation_publishes_late_frames_with_their_capture_stamp_and_drifting_
         odometry = simulation.odometry()
         drift_m = math.hypot(odometry.x_m - state.position[0], odometry.y_m - state.position[1])
         assert 0.0 < drift_m < 0.1
+
+
+def test_white_balance_drift_wanders_but_stays_bounded():
+    model = camera(camera_wb_walk=0.02)
+    spreads = []
+    for _ in range(3000):
+        model.apply(grey(100.0))
+        spreads.append(np.abs(model.log_wb_drift).max())
+    assert max(spreads[:5]) < 0.1
+    assert 0.02 < np.mean(spreads[1000:]) < 0.2
+    assert max(spreads) < 0.4

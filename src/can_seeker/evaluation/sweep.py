@@ -2,6 +2,7 @@
 and the degradation table and plot of a sweep (success, true gap error, time to stop and
 contacts against each setting).
 """
+import argparse
 import itertools
 from typing import Dict, List, Sequence, Tuple
 
@@ -17,6 +18,14 @@ def parse_override(text: str) -> Tuple[str, str]:
         raise ValueError('expected NODE/PARAM=VALUE (e.g. sim/camera_read_noise=4), got %r'
                          % (text,))
     return '/' + name, value.strip()
+
+
+def override_arg(text: str) -> Tuple[str, str]:
+    """:func:`parse_override` for argparse: a bad value is an ArgumentTypeError."""
+    try:
+        return parse_override(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error))
 
 
 def parse_sweep(text: str) -> Tuple[str, List[str]]:

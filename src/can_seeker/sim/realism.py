@@ -26,6 +26,9 @@ ZOOM_BLUR_DEPTH_M = 1.0
 camera is about this far; nearer things blur more, farther less."""
 AE_RATE = 0.3
 """Fraction of its log exposure error the auto-exposure corrects each frame."""
+AWB_RATE = 0.05
+"""Fraction of its drift the auto white balance corrects each frame: the drift wanders slowly
+(seconds) but stays bounded (stationary spread about 3.2 x the per-frame walk)."""
 MAX_AE_LOG_GAIN = math.log(8.0)
 
 
@@ -98,8 +101,8 @@ _KNOB_DOCS = {
                           'speed over it (s)', 0.5),
     'camera_ae_walk': ('auto-exposure gain random walk per frame (standard deviation of the '
                        'log gain)', 1.0),
-    'camera_wb_walk': ('white-balance drift: random walk per frame of each channel\'s log gain',
-                       1.0),
+    'camera_wb_walk': ('white-balance drift: random walk per frame of each channel\'s log gain '
+                       '(the white balance pulls it back by 5 % a frame)', 1.0),
     'camera_awb': ('fraction of the light\'s colour cast the auto white balance removes (0-1)',
                    1.0),
     'camera_vignetting': ('brightness lost in the image corners (fraction, 0-1)', 1.0),
@@ -311,7 +314,7 @@ class CameraModel:
         self.log_exposure_gain = min(max(self.log_exposure_gain, -MAX_AE_LOG_GAIN),
                                      MAX_AE_LOG_GAIN)
         if spec.camera_wb_walk:
-            self.log_wb_drift = (self.log_wb_drift
+            self.log_wb_drift = ((1.0 - AWB_RATE) * self.log_wb_drift
                                  + spec.camera_wb_walk * rng.standard_normal(3))
             self.log_wb_drift -= self.log_wb_drift[1]
 

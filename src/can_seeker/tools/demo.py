@@ -25,11 +25,13 @@ from std_msgs.msg import String
 
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 from can_seeker.params import defaults
+from can_seeker.sim.realism import REALISM_PRESETS
 from can_seeker.sim.scene import scene_from_dict
 from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
 from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.topdown import (CoverageMap, TopDownView, draw_topdown, scene_points,
                                            plot_trajectory, side_by_side)
+from can_seeker.evaluation.sweep import override_arg
 from can_seeker.evaluation.trials import Criteria
 from can_seeker.evaluation.video import Mp4Writer
 
@@ -59,6 +61,11 @@ def parse_args(argv):
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=1.0,
                         help='sim speed; 0 runs as fast as possible')
+    parser.add_argument('--realism', default=SIM.realism, choices=REALISM_PRESETS,
+                        help='sensor and actuator realism of the simulator')
+    parser.add_argument('--param', action='append', default=[], type=override_arg,
+                        metavar='NODE/PARAM=VALUE',
+                        help='set a node parameter, e.g. sim/camera_latency_s=0.1 (repeatable)')
     return parser.parse_args(argv)
 
 
@@ -130,8 +137,10 @@ def run(args):
         world = os.path.abspath(world)
     launch = {'can_placement': 'random', 'seed': seed, 'world': world,
               'can_min_distance': args.min_distance, 'can_max_distance': args.max_distance,
-              'can_texture': args.can_texture, 'real_time_factor': args.real_time_factor}
-    with LaunchedSystem(launch, os.path.join(args.output, 'roslaunch.log')) as system:
+              'can_texture': args.can_texture, 'real_time_factor': args.real_time_factor,
+              'realism': args.realism}
+    with LaunchedSystem(launch, os.path.join(args.output, 'roslaunch.log'),
+                        params=dict(args.param)) as system:
         rospy.init_node('demo', disable_signals=True)
         system.wait_for_services()
         criteria = Criteria(stop_distance_m=rospy.get_param('/can_stopper/stop_distance'),

@@ -41,7 +41,7 @@ from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
                                          compare_runs, merge_records, parse_shard,
                                          shard_indices)
-from can_seeker.evaluation.sweep import (parse_override, parse_sweep, plot_sweep,
+from can_seeker.evaluation.sweep import (override_arg, parse_sweep, plot_sweep,
                                          setting_label, sweep_grid, sweep_table)
 from can_seeker.evaluation.trials import Criteria, summarise, summary_table
 
@@ -89,7 +89,7 @@ def parse_args(argv):
                         '/scan (the simulated lidar), or "" for none')
     parser.add_argument('--realism', default=SIM.realism, choices=REALISM_PRESETS,
                         help='sensor and actuator realism of the simulator')
-    parser.add_argument('--param', action='append', default=[], type=_override,
+    parser.add_argument('--param', action='append', default=[], type=override_arg,
                         metavar='NODE/PARAM=VALUE',
                         help='set a node parameter, e.g. sim/camera_latency_s=0.1 (repeatable)')
     parser.add_argument('--sweep', action='append', default=[], type=_sweep,
@@ -132,13 +132,6 @@ def _room_size(text):
         raise argparse.ArgumentTypeError('a room size is LxW in metres, e.g. 6x4, got %r'
                                          % (text,))
     return '%gx%g' % (length_m, width_m)
-
-
-def _override(text):
-    try:
-        return parse_override(text)
-    except ValueError as error:
-        raise argparse.ArgumentTypeError(str(error))
 
 
 def _sweep(text):
