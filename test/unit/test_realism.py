@@ -274,3 +274,18 @@ def test_white_balance_drift_wanders_but_stays_bounded():
     assert max(spreads[:5]) < 0.1
     assert 0.02 < np.mean(spreads[1000:]) < 0.2
     assert max(spreads) < 0.4
+
+
+def test_jitter_of_the_true_motion_is_not_taken_for_slip():
+    """The slip grows with the motors' acceleration, not with the step-to-step jitter of the
+    physics (which would over-count every wheel turn)."""
+    jitter = rng(9)
+    spec = RealismSpec(odom_slip=PRESETS['harsh'].odom_slip)
+    odometry = WheelOdometry(spec, SEPARATION_M)
+    x = 0.0
+    for _ in range(2400):
+        x += 0.3 / 240.0 + 1e-5 * float(jitter.standard_normal())
+        odometry.update((x, 0.0, 0.0), 1.0 / 240.0, (0.0, 0.0))
+    assert abs(odometry.pose[0] - x) < 1e-9
+    odometry.update((x + 0.01, 0.0, 0.0), 1.0 / 240.0, (1.0, 1.0))
+    assert odometry.pose[0] - (x + 0.01) == pytest.approx(0.01 * spec.odom_slip)

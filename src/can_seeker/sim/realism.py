@@ -79,7 +79,7 @@ PRESETS = {
         camera_jpeg_quality=80, camera_latency_s=0.05, camera_drop_rate=0.02,
         light_kelvin_min=3000.0, light_kelvin_max=6500.0, light_intensity_min=0.7,
         light_intensity_max=1.2, light_elevation_min_deg=35.0, light_elevation_max_deg=85.0,
-        odom_wheel_scale=0.005, odom_track_scale=0.02, odom_slip=0.02, odom_noise=0.005,
+        odom_wheel_scale=0.001, odom_track_scale=0.01, odom_slip=0.02, odom_noise=0.001,
         odom_yaw_drift=0.0005, cmd_latency_s=0.03, motor_deadband_mps=0.004,
         scan_noise_m=0.01, scan_dropout=0.01),
     'harsh': RealismSpec(
@@ -88,7 +88,7 @@ PRESETS = {
         camera_jpeg_quality=50, camera_latency_s=0.12, camera_drop_rate=0.1,
         light_kelvin_min=2700.0, light_kelvin_max=6500.0, light_intensity_min=0.4,
         light_intensity_max=1.5, light_elevation_min_deg=20.0, light_elevation_max_deg=85.0,
-        odom_wheel_scale=0.02, odom_track_scale=0.05, odom_slip=0.05, odom_noise=0.02,
+        odom_wheel_scale=0.005, odom_track_scale=0.03, odom_slip=0.05, odom_noise=0.004,
         odom_yaw_drift=0.002, cmd_latency_s=0.1, motor_deadband_mps=0.008,
         scan_noise_m=0.03, scan_dropout=0.05),
 }
@@ -377,10 +377,12 @@ class WheelOdometry:
         self.pose = tuple(true_pose)
         self.twist = (0.0, 0.0)
         self._last_true = tuple(true_pose)
-        self._last_wheel_mps = (0.0, 0.0)
 
-    def update(self, true_pose: Tuple[float, float, float], dt_s: float):
-        """Integrate the motion from the last true pose to ``true_pose`` over ``dt_s`` (s)."""
+    def update(self, true_pose: Tuple[float, float, float], dt_s: float,
+               wheel_accels_mps2: Tuple[float, float] = (0.0, 0.0)):
+        """Integrate the motion from the last true pose to ``true_pose`` over ``dt_s`` (s);
+        ``wheel_accels_mps2`` are the (left, right) rim accelerations the motors are driven at
+        now (the slip grows with them)."""
         if self.spec.odometry_is_true:
             self.pose = tuple(true_pose)
             self._last_true = tuple(true_pose)
@@ -392,20 +394,15 @@ class WheelOdometry:
         forward_m = (x - last_x) * math.cos(heading) + (y - last_y) * math.sin(heading)
         half_turn_m = turn_rad * self.wheel_separation_m / 2.0
         travels = []
-        wheel_mps = []
-        for true_m, scale, last_mps in ((forward_m - half_turn_m, self.left_scale,
-                                         self._last_wheel_mps[0]),
-                                        (forward_m + half_turn_m, self.right_scale,
-                                         self._last_wheel_mps[1])):
-            speed_mps = true_m / dt_s
-            accel_mps2 = (speed_mps - last_mps) / dt_s
+        for true_m, scale, accel_mps2 in ((forward_m - half_turn_m, self.left_scale,
+                                           wheel_accels_mps2[0]),
+                                          (forward_m + half_turn_m, self.right_scale,
+                                           wheel_accels_mps2[1])):
             measured_m = true_m * scale * (1.0 + self.spec.odom_slip * abs(accel_mps2))
             if self.spec.odom_noise and true_m:
                 measured_m += (self.spec.odom_noise * math.sqrt(abs(true_m))
                                * float(self._rng.standard_normal()))
             travels.append(measured_m)
-            wheel_mps.append(speed_mps)
-        self._last_wheel_mps = tuple(wheel_mps)
         self._last_true = tuple(true_pose)
         moving = forward_m != 0.0 or turn_rad != 0.0
         distance_m = (travels[0] + travels[1]) / 2.0

@@ -452,13 +452,18 @@ class Simulation:
         realism = self.realism
         for acts_s, linear_mps, angular_radps in realism.actuation.arrived(self.time_s):
             self._watchdog.command(linear_mps, angular_radps, acts_s)
-        linear_mps, angular_radps = self._limiter.step(*self._watchdog.target(self.time_s),
-                                                       1.0 / self.physics_rate_hz)
+        dt_s = 1.0 / self.physics_rate_hz
+        before = self._limiter.linear_mps, self._limiter.angular_radps
+        linear_mps, angular_radps = self._limiter.step(*self._watchdog.target(self.time_s), dt_s)
         self.world.set_twist(*realism.actuation.wheels(linear_mps, angular_radps))
         self.world.step()
         self.steps += 1
         if not realism.spec.odometry_is_true:
-            realism.odometry.update(self._true_pose(), 1.0 / self.physics_rate_hz)
+            half_track = WHEEL_SEPARATION_M / 2.0
+            linear_accel = (linear_mps - before[0]) / dt_s
+            turn_accel = (angular_radps - before[1]) * half_track / dt_s
+            realism.odometry.update(self._true_pose(), dt_s, (linear_accel - turn_accel,
+                                                              linear_accel + turn_accel))
         self._touched = self._touched | self.world.touched_objects()
         if self._camera_schedule.due(self.steps):
             self._capture()
