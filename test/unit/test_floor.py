@@ -118,3 +118,28 @@ def test_an_obstacle_in_the_reference_area_is_never_learned():
     in_reference = reference[:bottom].sum() / reference.sum()
     assert in_reference > 0.3
     assert not classifier.model_updated
+
+
+def _corner_shading(image, darkening):
+    """``image`` darkened smoothly toward the top-right corner by up to ``darkening`` (a
+    vignetting-like fall-off: a few grey levels per pixel at most)."""
+    height, width = image.shape[:2]
+    rows, columns = np.mgrid[0:height, 0:width]
+    radius = np.hypot(rows / height, (width - 1 - columns) / width)
+    gain = 1.0 - darkening * np.clip(1.0 - radius / 0.7, 0.0, 1.0) ** 2
+    return np.clip(image * gain[:, :, None], 0, 255).astype(np.uint8)
+
+
+def test_smooth_shading_is_floor_but_an_object_of_the_same_darkness_is_not():
+    floor = np.full((240, 320, 3), (235, 238, 240), np.uint8)
+    classifier = FloorClassifier()
+    classifier.classify(floor)
+    shaded = _corner_shading(floor.astype(float), 0.35)
+    assert shaded[0, -1].mean() < 160
+    assert not classifier.classify(shaded).any()
+    boxed = floor.copy()
+    boxed[10:60, 250:310] = shaded[10:60, 250:310].mean(axis=(0, 1))
+    assert classifier.classify(boxed)[20:50, 260:300].all()
+    off = FloorClassifier(FloorSettings(min_edge_contrast=0.0))
+    off.classify(floor)
+    assert off.classify(shaded).any()

@@ -13,7 +13,9 @@ is therefore never learned as floor, and a floor colour never seen in the refere
 stays an obstacle.
 
 The baseline, ``dark``, is the tutorial's: every pixel darker than a grey level is an obstacle.
-Both remove speckles and keep the obstacle regions above a minimum area.
+Both remove speckles and keep the obstacle regions above a minimum area whose outline is an
+edge: a region whose outline (away from the image border) changes colour only gradually is
+shading of the floor (lens vignetting, light falling off, a soft shadow), not an object.
 """
 from dataclasses import dataclass
 from typing import Optional
@@ -54,6 +56,10 @@ FLOOR_PARAMS = (
           'reference area is more than this fraction obstacle pixels (1)', 0.0, 1.0),
     Param('min_obstacle_area', 0.001, 'obstacle regions smaller than this fraction of the image '
           'area are ignored as noise (1)', 0.0, 1.0),
+    Param('min_edge_contrast', 3.0, 'obstacle regions whose outline (away from the image '
+          'border) has a mean colour gradient below this are floor shading (vignetting, light '
+          'fall-off), not objects (grey levels per pixel, after a 5x5 Gaussian blur; 0 = keep '
+          'every region)', 0.0, 255.0),
 )
 
 
@@ -68,6 +74,7 @@ class FloorSettings:
     reference_height: float = 0.2
     suspect_fraction: float = 0.3
     min_obstacle_area: float = 0.001
+    min_edge_contrast: float = 3.0
 
     @classmethod
     def from_values(cls, values):
@@ -154,7 +161,7 @@ class FloorClassifier:
             raw = self._appearance_obstacles(bgr, ignore)
         if ignore is not None:
             raw[ignore > 0] = 0
-        return self._obstacle_regions(raw)
+        return self._obstacle_regions(raw, bgr)
 
     def _features(self, bgr):
         """(colour bin, intensity bin) images of ``bgr``."""
@@ -213,13 +220,46 @@ class FloorClassifier:
         self.value_model = (1.0 - rate) * self.value_model + rate * value_new
         self.model_updated = True
 
-    def _obstacle_regions(self, raw):
-        """Speckles opened away; connected regions of at least the minimum area."""
+    def _obstacle_regions(self, raw, bgr):
+        """Speckles opened away; connected regions of at least the minimum area whose outline
+        is an edge (see :func:`outline_contrast`)."""
         opened = cv2.morphologyEx(raw, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
         count, labels, stats, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
+        if count <= 1:
+            return opened
         min_area_px = self.settings.min_obstacle_area * raw.shape[0] * raw.shape[1]
         keep = stats[:, cv2.CC_STAT_AREA] >= max(1.0, min_area_px)
+        if self.settings.min_edge_contrast > 0.0:
+            contrast = outline_contrast(bgr, opened, labels, count)
+            keep &= ~(contrast < self.settings.min_edge_contrast)
         keep[0] = False
-        if count <= 1 or keep[1:].all():
+        if keep[1:].all():
             return opened
         return np.where(keep[labels], 255, 0).astype(np.uint8)
+
+
+def colour_gradient(bgr: np.ndarray) -> np.ndarray:
+    """Per-pixel colour gradient magnitude (grey levels per pixel, float32): the largest over
+    the three channels of a 5x5 Gaussian-blurred image (the blur keeps sensor noise and JPEG
+    blocks out; a blue obstacle on a white floor differs in red and green, not in brightness)."""
+    blurred = cv2.GaussianBlur(bgr, (5, 5), 0).astype(np.float32)
+    gradient_x = cv2.Sobel(blurred, cv2.CV_32F, 1, 0, ksize=3, scale=0.125)
+    gradient_y = cv2.Sobel(blurred, cv2.CV_32F, 0, 1, ksize=3, scale=0.125)
+    return np.sqrt(gradient_x * gradient_x + gradient_y * gradient_y).max(axis=2)
+
+
+def outline_contrast(bgr: np.ndarray, mask: np.ndarray, labels: np.ndarray,
+                     count: int) -> np.ndarray:
+    """Mean colour gradient (grey levels per pixel) along each labelled region's outline away
+    from the image border; NaN for a region whose whole outline is on the border (it says
+    nothing either way, and is kept)."""
+    outline = cv2.subtract(mask, cv2.erode(mask, np.ones((3, 3), np.uint8)))
+    outline[0, :] = outline[-1, :] = 0
+    outline[:, 0] = outline[:, -1] = 0
+    on_outline = outline > 0
+    region = labels[on_outline]
+    gradient = colour_gradient(bgr)[on_outline]
+    lengths = np.bincount(region, minlength=count).astype(np.float64)
+    sums = np.bincount(region, weights=gradient, minlength=count)
+    with np.errstate(invalid='ignore', divide='ignore'):
+        return np.where(lengths > 0, sums / lengths, np.nan)
