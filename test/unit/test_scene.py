@@ -9,8 +9,9 @@ import yaml
 
 from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import CameraMount
+from can_seeker.sim.appearance import random_appearance
 from can_seeker.sim.lidar import LidarSpec
-from can_seeker.sim.scene import (CAN_CLEARANCE_M, CAN_RADIUS_M, ROBOT_RADIUS_M,
+from can_seeker.sim.scene import (CAN_CLEARANCE_M, CAN_RADIUS_M, OBSTACLE_RGBA, ROBOT_RADIUS_M,
                                   START_CLEARANCE_M, Scene, Solid, can_visible, empty_bounds,
                                   reachable_floor, room_walls, scene_from_dict)
 from can_seeker.sim.simulation import PARAMS, checked_config, scene_for
@@ -128,6 +129,7 @@ def test_a_wall_segment_is_a_box_along_it():
     ({'obstacles': [{'shape': 'box', 'x': 1, 'size': [0.1, 0.1]}]}, "'y'"),
     ({'room': {'length': 4, 'width': 4}, 'can': {'x': 5, 'y': 0}}, 'off the floor'),
     ({'floor_rgba': [2, 0, 0, 1]}, 'floor_rgba'),
+    ({'floor_checker_rgba': [0.5, 0.5, 0.5, 1]}, 'needs floor_rgba'),
     ({'furniture': []}, 'unknown world keys'),
     ([1, 2], 'mapping'),
 ])
@@ -154,6 +156,31 @@ def test_colours_come_from_the_parameters():
     assert scene.colour_of(scene.walls[0]) == (0.85, 0.82, 0.75, 1.0)
     assert len(warnings) == 1 and 'wall_rgba' in warnings[0]
     assert config_with()[0].scene.floor_rgba is None
+
+
+def test_randomized_colours_come_from_the_seed_and_leave_the_geometry_alone():
+    plain, _ = config_with(world='room', seed=7)
+    drawn, warnings = config_with(world='room', seed=7, randomize_appearance=True,
+                                  floor_rgba='0.2 0.2 0.2 1')
+    assert not warnings
+    assert (drawn.scene.obstacles, drawn.scene.walls, drawn.scene.can_xy) == (
+        plain.scene.obstacles, plain.scene.walls, plain.scene.can_xy)
+    look = random_appearance(7)
+    assert (drawn.scene.floor_rgba, drawn.scene.floor_checker_rgba, drawn.scene.wall_rgba,
+            drawn.scene.obstacle_rgba) == (look.floor_rgba, look.floor_checker_rgba,
+                                           look.wall_rgba, look.obstacle_rgba)
+    new_world = scene_for(drawn, 8, warnings.append)
+    assert new_world.obstacle_rgba == random_appearance(8).obstacle_rgba
+    assert plain.scene.obstacle_rgba == OBSTACLE_RGBA and plain.scene.floor_checker_rgba is None
+
+
+def test_a_checker_floor_survives_a_round_trip_and_a_plain_floor_of_a_file_has_none():
+    scene = Scene(empty_bounds(), floor_rgba=(0.2, 0.2, 0.2, 1.0),
+                  floor_checker_rgba=(0.5, 0.4, 0.4, 1.0))
+    assert scene_from_dict(scene.as_dict()) == scene
+    plain = scene_from_dict({'floor_rgba': [0.3, 0.3, 0.3, 1]}, floor_rgba=(0.2, 0.2, 0.2, 1.0),
+                            floor_checker_rgba=(0.5, 0.4, 0.4, 1.0))
+    assert plain.floor_rgba == (0.3, 0.3, 0.3, 1.0) and plain.floor_checker_rgba is None
 
 
 def test_can_visibility_from_the_start_camera():

@@ -8,7 +8,9 @@ import pytest
 from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.drive import TwistLimiter
-from can_seeker.sim.world import (CAN_HEIGHT_M, CameraSpec, World, rgba_to_image)
+from can_seeker.sim.scene import Scene, empty_bounds
+from can_seeker.sim.world import (CAN_HEIGHT_M, CameraSpec, World, checker_image,
+                                  rgba_to_image)
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
 CAMERA = CameraSpec(160, 120, 45.0, CameraMount(0.25, 25.0))
@@ -194,3 +196,20 @@ def test_missing_egl_plugin_falls_back_to_tinyrenderer(monkeypatch):
         assert red_pixels(world.render('bgr8')).sum() > 5
     with pytest.raises(RuntimeError):
         World(URDF, small, renderer='egl')
+
+
+def test_a_checker_floor_shows_both_colours_in_1_m_squares(world):
+    dark, light = (0.2, 0.3, 0.25, 1.0), (0.6, 0.55, 0.5, 1.0)
+    world.set_scene(Scene(empty_bounds(), can_xy=(5.0, 5.0), floor_rgba=dark,
+                          floor_checker_rgba=light))
+    try:
+        image = world.render('bgr8').astype(int)
+    finally:
+        world.set_scene(Scene(empty_bounds(), can_xy=(1.0, 0.0)))
+    near_row = image[CAMERA.height - 10]
+    left, right = near_row[CAMERA.width // 8], near_row[7 * CAMERA.width // 8]
+    # floor from x 0 to 1 m: the square at y 0 to 1 m (left) is light, the one right of it dark
+    light_bgr, dark_bgr = (128, 140, 153), (64, 76, 51)
+    assert np.abs(left - light_bgr).max() < 20 and np.abs(right - dark_bgr).max() < 20
+    texture = checker_image(dark, light)
+    assert tuple(texture[0, 0]) == dark_bgr and tuple(texture[0, -1]) == light_bgr

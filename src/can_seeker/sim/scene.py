@@ -128,7 +128,8 @@ class Solid:
 @dataclass(frozen=True)
 class Scene:
     """Everything in the world but the robot: the usable floor (x_min, x_max, y_min, y_max, m),
-    walls, obstacles, the can's centre (m) and the colours (floor None: pybullet's checker)."""
+    walls, obstacles, the can's centre (m) and the colours (floor None: pybullet's checker;
+    with ``floor_checker_rgba`` too, a checker of the two in 1 m squares, as pybullet's)."""
 
     bounds: Tuple[float, float, float, float]
     walls: Tuple[Solid, ...] = ()
@@ -137,6 +138,7 @@ class Scene:
     floor_rgba: Optional[RGBA] = None
     wall_rgba: RGBA = WALL_RGBA
     obstacle_rgba: RGBA = OBSTACLE_RGBA
+    floor_checker_rgba: Optional[RGBA] = None
 
     @property
     def solids(self) -> Tuple[Solid, ...]:
@@ -188,6 +190,8 @@ class Scene:
                 'obstacles': [obstacle.as_dict() for obstacle in self.obstacles]}
         if self.floor_rgba is not None:
             data['floor_rgba'] = list(self.floor_rgba)
+            if self.floor_checker_rgba is not None:
+                data['floor_checker_rgba'] = list(self.floor_checker_rgba)
         if self.can_xy is not None:
             data['can'] = {'x': self.can_xy[0], 'y': self.can_xy[1]}
         return data
@@ -376,21 +380,24 @@ def _solid(entry, default_name: str, default_height_m: float) -> Solid:
 
 
 def scene_from_dict(data: dict, floor_rgba: Optional[RGBA] = None, wall_rgba: RGBA = WALL_RGBA,
-                    obstacle_rgba: RGBA = OBSTACLE_RGBA) -> Scene:
+                    obstacle_rgba: RGBA = OBSTACLE_RGBA,
+                    floor_checker_rgba: Optional[RGBA] = None) -> Scene:
     """A scene from the world-file format; ValueError saying what is wrong otherwise. The
-    colours given here apply where the file sets none.
+    colours given here apply where the file sets none (a file that colours the floor sets its
+    checker colour too, or none).
 
     Keys (all optional): ``room: {length, width}`` (four walls around the start),
     ``walls``/``obstacles``: lists of solids (``{shape: box, x, y, size: [sx, sy], yaw_deg,
     height, rgba}``, ``{shape: cylinder, x, y, radius, height}``; a wall may be given as
     ``{from: [x, y], to: [x, y], thickness}``), ``can: {x, y}``, ``bounds: [x_min, x_max, y_min,
     y_max]`` (default: the box around the walls, or the empty floor), ``floor_rgba``,
-    ``wall_rgba``, ``obstacle_rgba``.
+    ``floor_checker_rgba`` (with ``floor_rgba``: a checker floor), ``wall_rgba``,
+    ``obstacle_rgba``.
     """
     if not isinstance(data, dict):
         raise ValueError('a world is a mapping, got %r' % (data,))
-    known = {'room', 'walls', 'obstacles', 'can', 'bounds', 'floor_rgba', 'wall_rgba',
-             'obstacle_rgba'}
+    known = {'room', 'walls', 'obstacles', 'can', 'bounds', 'floor_rgba', 'floor_checker_rgba',
+             'wall_rgba', 'obstacle_rgba'}
     unknown = sorted(set(data) - known)
     if unknown:
         raise ValueError('unknown world keys: %s' % ', '.join(map(str, unknown)))
@@ -412,7 +419,12 @@ def scene_from_dict(data: dict, floor_rgba: Optional[RGBA] = None, wall_rgba: RG
         bounds = empty_bounds()
     if bounds[0] >= bounds[1] or bounds[2] >= bounds[3]:
         raise ValueError('bounds: expected x_min < x_max and y_min < y_max, got %r' % (bounds,))
-    colours = {'floor_rgba': floor_rgba, 'wall_rgba': wall_rgba, 'obstacle_rgba': obstacle_rgba}
+    colours = {'floor_rgba': floor_rgba, 'wall_rgba': wall_rgba, 'obstacle_rgba': obstacle_rgba,
+               'floor_checker_rgba': floor_checker_rgba}
+    if 'floor_checker_rgba' in data and 'floor_rgba' not in data:
+        raise ValueError('floor_checker_rgba needs floor_rgba: a checker has two colours')
+    if 'floor_rgba' in data:
+        colours['floor_checker_rgba'] = None
     colours.update({key: _rgba(data[key], key) for key in colours if key in data})
     scene = Scene(tuple(float(value) for value in bounds), tuple(walls), obstacles, **colours)
     names = [solid.name for solid in scene.solids]

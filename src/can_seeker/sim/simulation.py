@@ -19,6 +19,7 @@ from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.drive import CommandWatchdog, TwistLimiter
 from can_seeker.params import Param
+from can_seeker.sim.appearance import random_appearance
 from can_seeker.sim.lidar import LidarSpec
 from can_seeker.sim.realism import (PRESETS, REALISM_PARAMS, Realism, spec_from_config,
                                     trial_key)
@@ -82,6 +83,11 @@ PARAMS = (
     Param('wall_rgba', _rgba_text(WALL_RGBA), 'wall colour: red green blue alpha in 0-1'),
     Param('obstacle_rgba', _rgba_text(OBSTACLE_RGBA), 'obstacle colour: red green blue alpha '
           'in 0-1 (a world file may colour each obstacle)'),
+    Param('randomize_appearance', False, 'draw the floor (pybullet\'s checker, one colour or a '
+          'checker of two), wall and obstacle colours from the seed of each world (~seed, '
+          '/sim/new_world) instead of ~floor_rgba, ~wall_rgba and ~obstacle_rgba: light and '
+          'dark, some hardly standing out from the floor, never red; a world file\'s colours '
+          'still win'),
     Param('scan_rate', 10.0, 'rate of the simulated lidar /scan (Hz, sim time); 0 turns it '
           'off', 0.0, 240.0),
     Param('scan_beams', 360, 'beams of the lidar over 360 deg', 8, 4096),
@@ -211,9 +217,16 @@ def checked_config(params: SimpleNamespace, warn: Callable[[str], None],
 
 def scene_for(config: SimpleNamespace, seed: int, warn: Callable[[str], None]) -> Scene:
     """The world a :func:`checked_config` describes, with its random parts drawn from ``seed``:
-    the room's obstacles first (clear of the start and of a fixed can), then the can."""
-    colours = {'floor_rgba': config.floor_color, 'wall_rgba': config.wall_color,
-               'obstacle_rgba': config.obstacle_color}
+    the room's obstacles first (clear of the start and of a fixed can), then the can; with
+    ``randomize_appearance`` the colours too (from a stream of their own: the geometry is the
+    same either way)."""
+    if config.randomize_appearance:
+        look = random_appearance(seed)
+        colours = {'floor_rgba': look.floor_rgba, 'floor_checker_rgba': look.floor_checker_rgba,
+                   'wall_rgba': look.wall_rgba, 'obstacle_rgba': look.obstacle_rgba}
+    else:
+        colours = {'floor_rgba': config.floor_color, 'wall_rgba': config.wall_color,
+                   'obstacle_rgba': config.obstacle_color}
     generator = random.Random(seed)
     fixed_can = (config.can_x, config.can_y) if config.can_placement == 'fixed' else None
     if config.world == 'room':

@@ -47,6 +47,35 @@ CAN_TEXTURES = ('textured', 'plain')
 """textured: red body, white lettering band, silver lid and base; plain: one colour."""
 
 
+CHECKER_TEXTURE_PX = 256
+"""Side of a floor checker texture (px): two squares each way, like pybullet's."""
+
+
+def checker_image(rgba: Sequence[float], checker_rgba: Sequence[float]) -> np.ndarray:
+    """BGR texture of a 2 x 2 checker: ``rgba`` in the squares at the texture's origin and
+    opposite corner, ``checker_rgba`` in the other two (colours in 0-1)."""
+    half = CHECKER_TEXTURE_PX // 2
+    first, second = (np.array([round(255.0 * channel) for channel in colour[2::-1]], np.uint8)
+                     for colour in (rgba, checker_rgba))
+    image = np.empty((CHECKER_TEXTURE_PX, CHECKER_TEXTURE_PX, 3), np.uint8)
+    image[:half, :half] = image[half:, half:] = first
+    image[:half, half:] = image[half:, :half] = second
+    return image
+
+
+def checker_floor_obj(mtl_name: str) -> str:
+    """pybullet's plane100.obj with material ``floor`` from ``mtl_name``: a 200 m square at
+    z = 0 whose texture repeats every 2 m (a 2 x 2 checker texture gives 1 m squares, with a
+    corner at the origin)."""
+    side = EMPTY_FLOOR_HALF_SIDE_M
+    return ('mtllib %s\no floor\n'
+            'v %g %g 0\nv %g %g 0\nv %g %g 0\nv %g %g 0\n'
+            'vt %g 0\nvt %g %g\nvt 0 %g\nvt 0 0\nvn 0 0 1\n'
+            'usemtl floor\ns off\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n'
+            % (mtl_name, side, -side, side, side, -side, side, -side, -side,
+               side, side, side, side))
+
+
 def package_urdf_path() -> str:
     """The robot URDF of the installed can_seeker package (also its robot_description)."""
     return os.path.join(rospkg.RosPack().get_path('can_seeker'), 'urdf', 'can_seeker_robot.urdf')
@@ -119,8 +148,9 @@ class World:
         if can_texture not in CAN_TEXTURES:
             raise ValueError('can_texture must be one of %s, got %r'
                              % (', '.join(CAN_TEXTURES), can_texture))
-        self._texture_dir = tempfile.mkdtemp(prefix='can_seeker_can_') if (
-            can_texture == 'textured') else None
+        self._textured_can = can_texture == 'textured'
+        self._texture_dir = tempfile.mkdtemp(prefix='can_seeker_textures_')
+        self._floor_meshes = {}
         self.camera = camera
         self.dt_s = 1.0 / physics_rate_hz
         self._client = BulletClient(connection_mode=pybullet.GUI if gui else pybullet.DIRECT)
@@ -165,28 +195,52 @@ class World:
         client = self._client
         for body in list(self._solids) + ([self._floor] if self._floor is not None else []):
             client.removeBody(body)
-        self._floor = self._create_floor(scene.floor_rgba)
+        self._floor = self._create_floor(scene.floor_rgba, scene.floor_checker_rgba)
         self._solids = {self._create_solid(solid, scene.colour_of(solid)): solid.name
                         for solid in scene.solids}
         self.scene = scene
         self.place_can(*(scene.can_xy if scene.can_xy is not None else self._can_home))
 
-    def _create_floor(self, rgba: Optional[Sequence[float]]) -> int:
-        """pybullet's checker plane, or a slab of the same size in one colour."""
+    def _create_floor(self, rgba: Optional[Sequence[float]],
+                      checker_rgba: Optional[Sequence[float]] = None) -> int:
+        """pybullet's checker plane, or a slab of its size in one colour or in a checker of
+        ``rgba`` and ``checker_rgba``."""
         client = self._client
         if rgba is None:
             return client.loadURDF('plane.urdf')
         half_extents = (EMPTY_FLOOR_HALF_SIDE_M, EMPTY_FLOOR_HALF_SIDE_M, FLOOR_DEPTH_M / 2.0)
+        if checker_rgba is None:
+            visual = client.createVisualShape(pybullet.GEOM_BOX, halfExtents=half_extents,
+                                              rgbaColor=list(rgba))
+        else:
+            visual = client.createVisualShape(pybullet.GEOM_MESH,
+                                              fileName=self._checker_mesh(rgba, checker_rgba),
+                                              visualFramePosition=(0.0, 0.0, FLOOR_DEPTH_M / 2.0))
         floor = client.createMultiBody(
             baseMass=0.0,
             baseCollisionShapeIndex=client.createCollisionShape(pybullet.GEOM_BOX,
                                                                 halfExtents=half_extents),
-            baseVisualShapeIndex=client.createVisualShape(pybullet.GEOM_BOX,
-                                                          halfExtents=half_extents,
-                                                          rgbaColor=list(rgba)),
-            basePosition=(0.0, 0.0, -FLOOR_DEPTH_M / 2.0))
+            baseVisualShapeIndex=visual, basePosition=(0.0, 0.0, -FLOOR_DEPTH_M / 2.0))
         client.changeDynamics(floor, -1, lateralFriction=1.0)
         return floor
+
+    def _checker_mesh(self, rgba: Sequence[float], checker_rgba: Sequence[float]) -> str:
+        """An OBJ floor like pybullet's plane whose material's texture is a checker of the two
+        colours, written once per pair. The texture comes with the mesh: one set later with
+        changeVisualShape shows another texture under the EGL renderer (its texture ids are
+        not pybullet's)."""
+        key = (tuple(rgba[:3]), tuple(checker_rgba[:3]))
+        if key not in self._floor_meshes:
+            name = 'floor_%d' % len(self._floor_meshes)
+            cv2.imwrite(os.path.join(self._texture_dir, name + '.png'),
+                        checker_image(rgba, checker_rgba))
+            with open(os.path.join(self._texture_dir, name + '.mtl'), 'w') as mtl:
+                mtl.write('newmtl floor\nKd 1 1 1\nmap_Kd %s.png\n' % name)
+            path = os.path.join(self._texture_dir, name + '.obj')
+            with open(path, 'w') as mesh:
+                mesh.write(checker_floor_obj(name + '.mtl'))
+            self._floor_meshes[key] = path
+        return self._floor_meshes[key]
 
     def _create_solid(self, solid: Solid, rgba: Sequence[float]) -> int:
         """A static box or cylinder standing on the floor."""
@@ -232,7 +286,7 @@ class World:
         client = self._client
         collision = client.createCollisionShape(pybullet.GEOM_CYLINDER, radius=CAN_RADIUS_M,
                                                 height=CAN_HEIGHT_M)
-        if self._texture_dir is None:
+        if not self._textured_can:
             visual = client.createVisualShape(pybullet.GEOM_CYLINDER, radius=CAN_RADIUS_M,
                                               length=CAN_HEIGHT_M, rgbaColor=list(rgba))
         else:
@@ -245,7 +299,7 @@ class World:
                                      baseVisualShapeIndex=visual,
                                      basePosition=(0.0, 0.0, CAN_HEIGHT_M / 2.0))
         client.changeDynamics(can, -1, lateralFriction=CAN_LATERAL_FRICTION)
-        if self._texture_dir is not None:
+        if self._textured_can:
             self._paint_label(can, rgba)
         return can
 
@@ -260,7 +314,7 @@ class World:
 
     def set_can_color(self, rgba: Sequence[float]):
         """Repaint the can (red, green, blue, alpha in 0-1): the body of a textured can."""
-        if self._texture_dir is not None:
+        if self._textured_can:
             self._paint_label(self._can, rgba)
         else:
             self._client.changeVisualShape(self._can, -1, rgbaColor=list(rgba))

@@ -5,7 +5,8 @@ The nodes start once (``demo.launch`` on a free port); between trials the sim an
 are reset through their services. Each trial rebuilds the world from its seed (trial i uses
 seed + i, so ``--seed S+i --trials 1`` repeats it): in the empty world the can stands at a random
 bearing and distance, in a room (``--world room``) the obstacles and the can are drawn anew, in a
-world file the can is drawn unless the file places it. Prints a progress bar, then a
+world file the can is drawn unless the file places it; with ``--randomize-appearance`` the
+floor, wall and obstacle colours are drawn from the seed too. Prints a progress bar, then a
 summary table; ``--json FILE`` writes every trial and the summary. Exits 1 when a trial failed.
 
 Scale out: ``--jobs N`` runs N independent systems (each its own master on its own port) in
@@ -87,6 +88,10 @@ def parse_args(argv):
     parser.add_argument('--scan-topic', default=CONTROL.scan_topic,
                         help='obstacle scan can_stopper drives by: /camera_scan (the camera), '
                         '/scan (the simulated lidar), or "" for none')
+    parser.add_argument('--randomize-appearance', action='store_true',
+                        help='draw the floor (plain or checkered, light or dark), wall and '
+                        'obstacle colours of each trial from its seed, instead of the '
+                        '--floor-rgba, --wall-rgba and --obstacle-rgba colours')
     parser.add_argument('--realism', default=SIM.realism, choices=REALISM_PRESETS,
                         help='sensor and actuator realism of the simulator')
     parser.add_argument('--param', action='append', default=[], type=override_arg,
@@ -162,15 +167,16 @@ def launch_args(args):
             'room_width': room_width, 'floor_rgba': args.floor_rgba,
             'wall_rgba': args.wall_rgba, 'obstacle_rgba': args.obstacle_rgba,
             'can_texture': args.can_texture, 'realism': args.realism,
-            'scan_topic': args.scan_topic, 'lockstep': str(args.lockstep).lower()}
+            'scan_topic': args.scan_topic, 'lockstep': str(args.lockstep).lower(),
+            'randomize_appearance': str(args.randomize_appearance).lower()}
 
 
 def settings(args):
     """The options that define the evaluation, for the JSON record."""
     record = {name: getattr(args, name) for name in (
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
-        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep', 'shard')
-        + WORLD_OPTIONS + CONTROL_OPTIONS}
+        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep', 'shard',
+        'randomize_appearance') + WORLD_OPTIONS + CONTROL_OPTIONS}
     record['params'] = dict(args.param)
     return record
 
@@ -224,6 +230,8 @@ def child_command(args, shard, json_path):
         command += ['--param', '%s=%s' % (name.lstrip('/'), value)]
     if not args.lockstep:
         command.append('--no-lockstep')
+    if args.randomize_appearance:
+        command.append('--randomize-appearance')
     return command + ['--shard', '%d/%d' % shard, '--json', json_path]
 
 
@@ -341,8 +349,10 @@ def main():
         print('evaluate: interrupted while starting the nodes', file=sys.stderr)
         sys.exit(130)
     summary = summarise(results, criteria)
-    print('\nevaluate: %d trials, %s world, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, '
+    print('\nevaluate: %d trials, %s world%s, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, '
           'can %s %s, scan %s, realism %s' % (len(results), _world_text(record_settings),
+                      ' with colours drawn per trial'
+                      if record_settings.get('randomize_appearance') else '',
                       record_settings['min_distance'], record_settings['max_distance'],
                       record_settings['width'], record_settings['height'],
                       record_settings['camera_height'], record_settings['camera_pitch'],
