@@ -10,6 +10,7 @@ from can_seeker.control.navigation import Pose2D
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
                                 camera_floor_pose, dead_band, detection_problem,
                                 detection_shows_can, sighting_from_detection)
+from can_seeker.health import ERROR, OK, WARN
 from can_seeker.params import read_params
 
 DEFAULTS = {spec.name: spec.default for spec in PARAMS}
@@ -19,7 +20,7 @@ DT = 1.0 / DEFAULTS['rate']
 
 def make_controller(**overrides):
     """A controller without obstacle sensing (the direct law), unless overridden."""
-    return Controller(SimpleNamespace(**{**DEFAULTS, 'scan_topic': '', **overrides}))
+    return Controller(SimpleNamespace(**{**DEFAULTS, 'scan_topics': '', **overrides}))
 
 
 def ahead(gap_m, bearing_deg=0.0):
@@ -415,7 +416,7 @@ def test_a_weaker_detection_does_not_start_an_approach():
 
 
 def test_no_hysteresis_with_a_zero_gate():
-    controller = Controller(SimpleNamespace(**dict(DEFAULTS, scan_topic='', track_gate=0.0)))
+    controller = Controller(SimpleNamespace(**dict(DEFAULTS, scan_topics='', track_gate=0.0)))
     controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
     controller.observe(ahead(0.5), 0.0)
     controller.observe(Sighting(0.5, 0.0, DEFAULTS['min_confidence'] - 0.05), 0.05)
@@ -453,14 +454,14 @@ def test_other_invalid_parameters_still_warn_and_use_the_default():
 
 def test_backing_up_stops_for_a_remembered_obstacle_behind():
     def backing_up(obstacle_behind):
-        controller = make_controller(scan_topic='/scan')
+        controller = make_controller(scan_topics='/scan')
         controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
         if obstacle_behind:
-            controller.observe_scan(np.array([[-0.27, 0.0]]), np.array([True]), (0.0, 0.0), 0.0)
+            controller.observe_scan('/scan', np.array([[-0.27, 0.0]]), np.array([True]), (0.0, 0.0), 0.0)
         now, command = 0.0, None
         for _ in range(40):
             controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
-            controller.observe_scan(np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0), now)
+            controller.observe_scan('/scan', np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0), now)
             controller.observe(ahead(STOP - 0.1), now)
             command = controller.command(now)
             now += DT
@@ -513,3 +514,114 @@ def test_a_detection_stamped_in_the_future_ages_from_its_arrival():
     _, now = run(controller, ahead(1.5), 0.0, 3.0)
     controller.observe(ahead(1.5), now, image_stamp_s=now + 100.0)
     assert controller.command(now + DEFAULTS['detection_timeout']) == (0.0, 0.0)
+
+
+# Why the command is zero or limited, and fused scans ------------------------------------------
+
+CLEAR_SCAN = (np.array([[3.0, 0.0], [3.0, 1.0], [3.0, -1.0], [-3.0, 0.0]]),
+              np.array([False, False, False, False]))
+TOO_CLOSE = STOP - 0.1
+"""A can this far from the robot front: it backs up."""
+
+
+def drive_toward_can(controller, start_s, duration_s, sources, odometry=True, obstacle=None,
+                     gap_m=1.0):
+    """Feed a can ``gap_m`` ahead, odometry (unless not) and a clear scan from each of
+    ``sources`` (``obstacle``: (source, x m) puts a return there on base_link's x axis in that
+    source's scan) at the control rate; the last command."""
+    now, command = start_s, None
+    while now < start_s + duration_s - 1e-9:
+        if odometry:
+            controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
+        for source in sources:
+            ends, hits = CLEAR_SCAN
+            if obstacle is not None and obstacle[0] == source:
+                ends, hits = np.array([[obstacle[1], 0.0]]), np.array([True])
+            controller.observe_scan(source, ends, hits, (0.0, 0.0), now)
+        controller.observe(ahead(gap_m), now)
+        command = controller.command(now)
+        now += DT
+    return command
+
+
+def test_why_names_the_missing_odometry_while_the_command_is_zero():
+    controller = make_controller(scan_topics='/scan')
+    driving = drive_toward_can(controller, 0.0, 1.0, ('/scan',))
+    assert driving[0] > 0.1 and controller.why == ''
+    assert controller.missing_inputs(1.0) == []
+    assert controller.health(1.0).level == OK
+    assert controller.health(1.0).message.startswith('APPROACH: commanding 0.')
+    stopped = drive_toward_can(controller, 1.0, 1.5, ('/scan',), odometry=False)
+    assert stopped == (0.0, 0.0)
+    assert controller.state is State.APPROACH
+    assert controller.why.startswith('no odometry for ')
+    health = controller.health(2.5)
+    assert health.level == ERROR
+    assert health.message.startswith('APPROACH: no odometry for ')
+    assert [(item.name, item.problem) for item in controller.missing_inputs(2.5)] == [
+        ('odometry', 'no odometry for 1.55 s (timeout 0.50 s)')]
+
+
+def test_why_names_a_stale_detection_and_an_unheard_scan():
+    controller = make_controller(scan_topics='/scan')
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe(ahead(1.0), 0.0)
+    assert controller.command(0.0)[0] == 0.0
+    assert controller.why == 'no scan on /scan yet: no driving, only turning'
+    assert controller.command(1.0) == (0.0, 0.0)
+    assert controller.why.startswith('no detection for 1.00 s')
+
+
+def test_inputs_awaited_since_a_reset_are_overdue_only_after_their_timeout():
+    controller = make_controller(scan_topics='/scan')
+    controller.reset(10.0)
+    awaited = controller.missing_inputs(10.1)
+    assert [(item.name, item.overdue) for item in awaited] == [
+        ('detection', False), ('odometry', False), ('/scan', False)]
+    assert controller.health(10.1).level == WARN
+    assert all(item.overdue for item in controller.missing_inputs(10.6))
+    assert controller.health(10.6).level == ERROR
+
+
+def test_why_says_an_obstacle_capped_the_speed():
+    controller = make_controller(scan_topics='/scan')
+    command = drive_toward_can(controller, 0.0, 2.0, ('/scan',), obstacle=('/scan', -0.27),
+                               gap_m=TOO_CLOSE)
+    assert command[0] == 0.0
+    assert controller.why.startswith('obstacle behind: ')
+
+
+def test_why_says_deadband_then_stopped_at_the_can():
+    controller = make_controller()
+    controller.observe(ahead(STOP + 0.002), 0.0)
+    assert controller.command(0.0) == (0.0, 0.0)
+    assert controller.why.startswith('deadband: gap within 2.0 mm')
+    controller.observe(ahead(STOP + 0.002), DT)
+    controller.command(DT)
+    assert controller.state is State.STOPPED
+    controller.observe(ahead(STOP + 0.002), 2 * DT)
+    controller.command(2 * DT)
+    assert controller.why == 'stopped at the can'
+
+
+@pytest.mark.parametrize('seen_by', ['/camera_scan', '/scan'])
+def test_an_obstacle_either_sensor_sees_is_an_obstacle(seen_by):
+    sources = ('/camera_scan', '/scan')
+    fused = make_controller(scan_topics=' '.join(sources))
+    command = drive_toward_can(fused, 0.0, 2.0, sources, obstacle=(seen_by, -0.27),
+                               gap_m=TOO_CLOSE)
+    unobstructed = drive_toward_can(make_controller(scan_topics=' '.join(sources)), 0.0, 2.0,
+                                    sources, gap_m=TOO_CLOSE)
+    assert command[0] == 0.0
+    assert unobstructed[0] == pytest.approx(-DEFAULTS['max_reverse'])
+    assert fused.why.startswith('obstacle behind: ')
+
+
+def test_a_stale_sensor_stops_the_driving_even_when_the_other_is_fresh():
+    sources = ('/camera_scan', '/scan')
+    controller = make_controller(scan_topics=' '.join(sources))
+    assert drive_toward_can(controller, 0.0, 1.0, sources)[0] > 0.1
+    command = drive_toward_can(controller, 1.0, 1.0, ('/camera_scan',))
+    assert command[0] == 0.0
+    assert controller.why.startswith('no scan on /scan for ')
+    assert [item.name for item in controller.missing_inputs(2.0)] == ['/scan']

@@ -5,7 +5,8 @@ import pathlib
 PACKAGE = pathlib.Path(__file__).resolve().parents[2] / 'src' / 'can_seeker'
 ROS_GLUE = {'nodes', 'tools'}
 ROS_MODULES = {'rospy', 'rosbag', 'rosgraph', 'roslaunch', 'rostest', 'tf2_ros', 'cv_bridge',
-               'dynamic_reconfigure', 'sensor_msgs', 'geometry_msgs', 'std_msgs', 'nav_msgs'}
+               'dynamic_reconfigure', 'sensor_msgs', 'geometry_msgs', 'std_msgs', 'nav_msgs',
+               'diagnostic_updater', 'diagnostic_msgs'}
 
 
 def imported_top_levels(path):

@@ -307,7 +307,7 @@ def test_a_remembered_obstacle_is_kept_where_it_was_hit_not_at_its_cell_centre()
                        stamp_s=0.0)
     navigator.add_scan(np.array([[1.0, 0.0]]), np.array([False]), (0.0, 0.0), navigator.pose,
                        range_min_m=0.9, stamp_s=1.0)
-    assert len(navigator.scan_points) == 0                     # only remembered now
+    assert len(navigator.last_scans[''][0]) == 0               # only remembered now
     assert navigator.free_travel_m((0.3, 0.0)) < 0.35
     navigator.pose = Pose2D(-0.1, 0.0, math.pi / 2.0)          # 0.305 m from it
     assert navigator.free_travel_m((0.3, 0.0)) == 1.0

@@ -82,6 +82,16 @@ def test_checked_config_repairs_inconsistent_values():
     assert (config.camera_rate, config.state_rate) == (100.0, 100.0) and len(warnings) == 2
 
 
+def test_in_lockstep_a_scan_comes_every_whole_number_of_physics_steps():
+    config, warnings = config_with(lockstep=True, scan_rate=7.0)
+    assert config.scan_rate == pytest.approx(240.0 / 34) and len(warnings) == 1
+    assert '34.286 physics steps' in warnings[0]
+    for overrides in ({'lockstep': True, 'scan_rate': 10.0}, {'scan_rate': 7.0},
+                      {'lockstep': True, 'scan_rate': 0.0}):
+        config, warnings = config_with(**overrides)
+        assert config.scan_rate == overrides['scan_rate'] and not warnings
+
+
 def test_camera_spec_from_parameters():
     config, _ = config_with(width=640, height=480, camera_height=0.3, camera_pitch_deg=20.0)
     spec = camera_spec(config)

@@ -17,10 +17,15 @@ fixed rate):
   ``lost_timeout`` without it, SEARCH.
 - WANDER (``behaviour`` wander, no can): drive straight, turn away from obstacles ahead.
 
-With a range scan (``scan_topic``), every command passes a safety layer: the speed, forward
-or backward, is capped by the free travel along the command's arc (live scan plus remembered
-obstacles, the can excluded while it is the target), so the robot never drives into anything it
-sensed. A stale scan or odometry allows no driving, only turning.
+With range scans (``scan_topics``: a camera scan, a lidar, or both), every command passes a
+safety layer: the speed, forward or backward, is capped by the free travel along the command's
+arc (each sensor's last scan plus remembered obstacles, the can excluded while it is the
+target), so the robot never drives into anything any sensor sensed. A stale scan of any sensor
+or stale odometry allows no driving, only turning.
+
+Whenever the command is zero or less than the state asks for, :attr:`Controller.why` says why
+(a stale or missing input, an obstacle ahead, the stop band, ...), and
+:meth:`Controller.missing_inputs` names the inputs that are missing or stale.
 
 A detection whose image is too old (``detection_timeout``, by the image's stamp, so a late old
 image is no news) gives a zero command whatever the state: a dead or lagging camera pipeline
@@ -36,16 +41,18 @@ base_link.
 import enum
 import math
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 from can_seeker.camera_geometry import CameraPose
 import numpy as np
 
+from can_seeker.health import ERROR, OK, WARN, Health
 from can_seeker.params import Param
 from can_seeker.control import avoidance
 from can_seeker.control.navigation import CLEAR_AHEAD_M, GOAL_REACHED_M, CameraView, Navigator, \
     Pose2D
 from can_seeker.control.twist_limits import TwistLimits, limit_twist, require_finite
+from can_seeker.sim.lockstep import parse_topics
 
 PARAMS = (
     Param('rate', 20.0, 'rate of the /cmd_vel commands from the control timer (Hz)', 1.0, 200.0),
@@ -113,9 +120,10 @@ PARAMS = (
     Param('behaviour', 'seek',
           'seek: search, explore, approach the can and stop; wander: drive around and turn '
           'away from obstacles, no can', choices=('seek', 'wander')),
-    Param('scan_topic', '/camera_scan',
-          'sensor_msgs/LaserScan of obstacles (camera scan or lidar, any frame in TF); empty: '
-          'no obstacle sensing, no exploration'),
+    Param('scan_topics', '/camera_scan',
+          'sensor_msgs/LaserScan topics of obstacles, separated by spaces (camera scan, lidar, '
+          'both: what any of them sees is an obstacle; any frame in TF); empty: no obstacle '
+          'sensing, no exploration'),
     Param('odom_topic', '/odom', 'nav_msgs/Odometry of the robot in the odom frame'),
     Param('scan_timeout', 0.5, 'no scan for this long: no driving forward or back, only '
           'turning (s)', 0.05, 10.0, safer='lower'),
@@ -196,6 +204,32 @@ class Sighting:
         return math.isfinite(self.gap_m)
 
 
+class MissingInput(NamedTuple):
+    """An input the controller lacks: its ``name`` ('detection', 'odometry' or a scan topic),
+    the ``problem``, e.g. 'no odometry for 1.20 s (timeout 0.50 s)', 'no scan on /scan yet',
+    and whether it is ``overdue``: not just awaited since a reset, within its timeout."""
+
+    name: str
+    problem: str
+    overdue: bool = True
+
+
+def _missing(name: str, what: str, stamp_s: Optional[float], timeout_s: float, now_s: float,
+             reset_s: float) -> MissingInput:
+    """An input last seen at ``stamp_s`` (None: not since the reset at ``reset_s``), stale at
+    ``now_s``: older than ``timeout_s`` now or by the next command."""
+    if stamp_s is None:
+        return MissingInput(name, 'no %s yet' % what, now_s - reset_s > timeout_s)
+    age_s = now_s - stamp_s
+    return MissingInput(name, 'no %s for %.2f s (timeout %.2f s%s)' % (
+        what, age_s, timeout_s, ' by the next command' if age_s <= timeout_s else ''))
+
+
+def problems_text(missing: Sequence[MissingInput]) -> str:
+    """The problems of ``missing``, in one line."""
+    return '; '.join(item.problem for item in missing)
+
+
 def camera_floor_pose(pose: CameraPose) -> CameraFloorPose:
     """The floor-plane part of a camera pose in base_link: where it stands and where it looks."""
     return CameraFloorPose(float(pose.position[0]), float(pose.position[1]), pose.heading_rad)
@@ -261,6 +295,7 @@ class Controller:
     def __init__(self, config):
         """``config`` has the attributes named in :data:`PARAMS`."""
         self.config = config
+        self.scan_sources = parse_topics(config.scan_topics)
         self.limits = TwistLimits(config.max_linear, config.max_reverse, config.max_angular,
                                   config.max_linear_accel, config.max_angular_accel)
         self.navigator = Navigator(config.grid_resolution, config.map_size, config.robot_radius,
@@ -275,7 +310,7 @@ class Controller:
 
     @property
     def senses_obstacles(self) -> bool:
-        return bool(self.config.scan_topic)
+        return bool(self.scan_sources)
 
     def reset(self, now_s: float = -math.inf) -> None:
         """Back to SEARCH (turning left), at rest, with no detection seen yet and an empty map.
@@ -295,7 +330,8 @@ class Controller:
         self.last_command_s: Optional[float] = None
         self.navigator.reset()
         self.pose_s: Optional[float] = None
-        self.scan_s: Optional[float] = None
+        self.scan_s: Dict[str, float] = {}
+        self.why = ''
         self.searched_rad = 0.0
         self.goal_xy: Optional[np.ndarray] = None
         self.path_xy: Optional[np.ndarray] = None
@@ -390,14 +426,15 @@ class Controller:
         self.navigator.pose = pose
         self.pose_s = now_s
 
-    def observe_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base, now_s: float,
-                     range_min_m: float = 0.0):
-        """A range scan in base_link (see :meth:`Navigator.add_scan`), taken at the last pose."""
+    def observe_scan(self, source: str, ends_base: np.ndarray, hits: np.ndarray, origin_base,
+                     now_s: float, range_min_m: float = 0.0):
+        """A range scan of sensor ``source`` (one of the ``scan_topics``) in base_link (see
+        :meth:`Navigator.add_scan`), taken at the last pose."""
         if self.navigator.pose is None:
             return
         self.navigator.add_scan(ends_base, hits, origin_base, self.navigator.pose, range_min_m,
-                                now_s)
-        self.scan_s = now_s
+                                now_s, source)
+        self.scan_s[source] = now_s
 
     def set_camera_view(self, view: CameraView) -> None:
         """The camera's floor footprint in base_link, for coverage."""
@@ -416,9 +453,54 @@ class Controller:
         return stamp_s is not None and now_s + 1.0 / self.config.rate - stamp_s <= timeout_s
 
     def can_navigate(self, now_s: float) -> bool:
-        """True when odometry and the scan are fresh enough to drive on grid paths."""
-        return (self.senses_obstacles and self._fresh(self.pose_s, self.config.odom_timeout, now_s)
-                and self._fresh(self.scan_s, self.config.scan_timeout, now_s))
+        """True when odometry and every sensor's scan are fresh enough to drive on grid
+        paths (and to drive at all, with obstacle sensing)."""
+        return self.senses_obstacles and not self._sensing_problems(now_s)
+
+    def missing_inputs(self, now_s: float) -> List[MissingInput]:
+        """What keeps the robot from driving: the detection when it is stale and, with obstacle
+        sensing (or in WANDER), odometry and each sensor's scan when missing or older than
+        their timeouts."""
+        missing = []
+        if not self.wander and self.is_stale(now_s):
+            missing.append(_missing('detection', 'detection', self.last_image_s,
+                                    self.config.detection_timeout, now_s,
+                                    self.ignore_before_s))
+        if self.senses_obstacles or self.wander:
+            missing += self._sensing_problems(now_s)
+        return missing
+
+    def _sensing_problems(self, now_s: float) -> List[MissingInput]:
+        """Odometry and the scans of every sensor, when missing or stale."""
+        config = self.config
+        problems = []
+        if not self._fresh(self.pose_s, config.odom_timeout, now_s):
+            problems.append(_missing('odometry', 'odometry', self.pose_s, config.odom_timeout,
+                                     now_s, self.ignore_before_s))
+        for source in self.scan_sources:
+            if not self._fresh(self.scan_s.get(source), config.scan_timeout, now_s):
+                problems.append(_missing(source, 'scan on %s' % source, self.scan_s.get(source),
+                                         config.scan_timeout, now_s, self.ignore_before_s))
+        return problems
+
+    def health(self, now_s: float, why: Optional[str] = None) -> Health:
+        """The control status for /diagnostics: ERROR while an input is overdue (WARN while
+        one is awaited after a reset), and the state with why its last command is zero or
+        limited (``why``, else :attr:`why`), or what it commands."""
+        missing = self.missing_inputs(now_s)
+        why = self.why if why is None else why
+        linear, angular = self.last_command
+        doing = why or 'commanding %.2f m/s, %.2f rad/s' % (linear, angular)
+        values = (('state', self.state.value), ('linear (m/s)', '%.3f' % linear),
+                  ('angular (rad/s)', '%.3f' % angular), ('why', why or 'none'),
+                  ('missing inputs', problems_text(missing) or 'none'))
+        level = ERROR if any(item.overdue for item in missing) else WARN if missing else OK
+        return Health(level, '%s: %s' % (self.state.value, doing), values)
+
+    def _because(self, reason: str) -> None:
+        """Say why this tick's command is zero or limited (the first reason found stands)."""
+        if not self.why:
+            self.why = reason
 
     # Behaviours ------------------------------------------------------------------------------
 
@@ -466,6 +548,7 @@ class Controller:
         if command is None:
             navigator.give_up_on(self.goal_xy)
             self.goal_xy = None
+            self._because('no path to the exploration goal: choosing another')
             return 0.0, 0.0
         return command
 
@@ -482,7 +565,21 @@ class Controller:
             if command is not None:
                 return command
         self.path_xy = None
-        return self._approach_law()
+        command = self._approach_law()
+        if command[0] == 0.0:
+            self._because(self._direct_law_standing_reason())
+        return command
+
+    def _direct_law_standing_reason(self) -> str:
+        """Why the direct law drives neither forward nor back: the gap is in the stop band, or
+        the can is too far to the side to drive yet."""
+        config = self.config
+        gap_error, bearing = self._errors()
+        if abs(gap_error) <= config.distance_tolerance / 2.0:
+            return ('deadband: gap within %.1f mm of stop_distance, bearing %.2f deg'
+                    % (1000.0 * abs(gap_error), math.degrees(bearing)))
+        return ('turning to the can first: bearing %.1f deg, driving within %.1f deg'
+                % (math.degrees(bearing), config.turn_in_place_deg))
 
     def _direct_law_held_back(self) -> bool:
         """True when the safety layer would stop the direct law within ``CLEAR_AHEAD_M`` (an
@@ -500,6 +597,8 @@ class Controller:
         config = self.config
         turning = 0.0, self.turn_sign * config.search_angular
         if self.can_xy is None or not self.can_navigate(now_s):
+            self._because(self._cannot_navigate_reason(now_s, 'turning toward where the can '
+                                                        'was seen'))
             return turning
         pose = self.navigator.pose
         can_base = avoidance.to_frame(np.array(self.can_xy), pose.x, pose.y, pose.yaw)[0]
@@ -528,19 +627,30 @@ class Controller:
         if self.state is State.WANDER:
             return self._wander()
         if self.state is State.SEARCH:
-            if self.searched_rad >= 2.0 * math.pi and self.can_navigate(now_s):
-                self._enter(State.EXPLORE)
-            else:
+            if self.searched_rad < 2.0 * math.pi:
                 return 0.0, self.turn_sign * config.search_angular
+            if not self.can_navigate(now_s):
+                self._because(self._cannot_navigate_reason(now_s, 'searched a full turn, '
+                                                           'cannot explore'))
+                return 0.0, self.turn_sign * config.search_angular
+            self._enter(State.EXPLORE)
         if self.state is State.EXPLORE:
             if not self.can_navigate(now_s):
+                self._because(self._cannot_navigate_reason(now_s, 'cannot explore'))
                 return 0.0, 0.0
             return self._explore(now_s)
         if self.state is State.LOST:
             return self._lost(now_s)
         if self.state is State.STOPPED:
+            self._because('stopped at the can')
             return 0.0, 0.0
         return self._toward_can(now_s)
+
+    def _cannot_navigate_reason(self, now_s: float, consequence: str) -> str:
+        """Why grid paths are out of reach (stale inputs, or no obstacle sensing at all)."""
+        problems = (problems_text(self._sensing_problems(now_s)) if self.senses_obstacles
+                    else 'no obstacle sensing (no scan topics)')
+        return '%s: %s' % (problems, consequence)
 
     def _safe(self, command: Tuple[float, float], now_s: float) -> Tuple[float, float]:
         """The safety layer: speed, forward or backward, within what the sensed obstacles
@@ -548,13 +658,18 @@ class Controller:
         linear, angular = command
         if not self.senses_obstacles or linear == 0.0:
             return command
-        if not (self._fresh(self.scan_s, self.config.scan_timeout, now_s)
-                and self._fresh(self.pose_s, self.config.odom_timeout, now_s)):
+        problems = self._sensing_problems(now_s)
+        if problems:
+            self._because('%s: no driving, only turning' % problems_text(problems))
             return 0.0, angular
         exclude = self.can_xy if self.state in (State.APPROACH, State.LOST) else None
         free_m = self.navigator.free_travel_m(command, exclude, self.config.can_exclusion_radius)
-        return (avoidance.safe_linear(linear, free_m, self.config.max_linear_accel,
-                                      SAFETY_RESERVE_M), angular)
+        safe = avoidance.safe_linear(linear, free_m, self.config.max_linear_accel,
+                                     SAFETY_RESERVE_M)
+        if abs(safe) < abs(linear):
+            self._because('obstacle %s: %.2f m of free travel, speed capped at %.2f m/s'
+                          % ('ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
+        return safe, angular
 
     def _settled(self, command: Tuple[float, float]) -> bool:
         """True when APPROACH has arrived: within both tolerances and at rest."""
@@ -588,15 +703,18 @@ class Controller:
         """
         try:
             return self._command(now_s)
-        except Exception:
+        except Exception as error:
             self.last_command = (0.0, 0.0)
+            self.why = 'control tick failed (%s: %s)' % (type(error).__name__, error)
             raise
 
     def _command(self, now_s: float) -> Tuple[float, float]:
         dt_s = 0.0 if self.last_command_s is None else now_s - self.last_command_s
         self.last_command_s = now_s
+        self.why = ''
         if self.is_stale(now_s):
             self.last_command = (0.0, 0.0)
+            self.why = problems_text(self.missing_inputs(now_s))
             return self.last_command
         if self.state is State.LOST and now_s - self.lost_since_s > self.config.lost_timeout:
             self._enter(State.SEARCH)
@@ -610,6 +728,8 @@ class Controller:
                 and self.sighting.has_range and linear > 0.0):
             if self.sighting.gap_m < self.config.stop_distance:
                 linear = 0.0
+                self._because('closer than stop_distance (gap %.3f m): no driving forward'
+                              % self.sighting.gap_m)
         self.last_command = (linear, angular)
         if self.state is State.APPROACH and self._settled(self.last_command):
             self._enter(State.STOPPED)

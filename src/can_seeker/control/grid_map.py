@@ -16,7 +16,7 @@ Arrays are indexed ``[ix, iy]``; cell (ix, iy) spans ``origin + (ix, iy) * resol
 resolution further. Odom positions outside the grid are ignored.
 """
 import math
-from typing import Optional, Tuple
+from typing import Dict, Optional, Tuple
 
 import numpy as np
 
@@ -35,7 +35,7 @@ class GridMap:
         self.evidence = np.zeros((self.cells, self.cells), np.int16)
         self.seen = np.zeros((self.cells, self.cells), bool)
         self.blind_s = np.zeros((self.cells, self.cells))
-        self.scan_s = -np.inf
+        self.scan_s: Dict[str, float] = {}
         self.hit_xy = np.zeros((self.cells, self.cells, 2))
 
     def clear(self) -> None:
@@ -43,7 +43,7 @@ class GridMap:
         self.evidence[:] = 0
         self.seen[:] = False
         self.blind_s[:] = 0.0
-        self.scan_s = -np.inf
+        self.scan_s = {}
 
     def forget_coverage(self) -> None:
         """Forget where the camera looked (obstacles stay)."""
@@ -72,15 +72,16 @@ class GridMap:
         return self.evidence > 0
 
     def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
-                 clear_from_m: float = 0.0, stamp_s: float = 0.0) -> None:
-        """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom) taken at ``stamp_s``: the floor
-        along each ray from ``clear_from_m`` on is free, its end is an obstacle where ``hits``
-        is true (a ray without a return ends at the range it can vouch for). Nearer than
-        ``clear_from_m`` the sensor is blind: what is remembered there stays, and the time
-        since the previous scan is added to its blind time."""
+                 clear_from_m: float = 0.0, stamp_s: float = 0.0, source: str = '') -> None:
+        """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom) taken at ``stamp_s`` by sensor
+        ``source``: the floor along each ray from ``clear_from_m`` on is free, its end is an
+        obstacle where ``hits`` is true (a ray without a return ends at the range it can vouch
+        for). Nearer than ``clear_from_m`` the sensor is blind: what is remembered there stays,
+        and the time since the same sensor's previous scan is added to its blind time."""
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
-        elapsed_s = stamp_s - self.scan_s if np.isfinite(self.scan_s) else 0.0
-        self.scan_s = stamp_s
+        previous_s = self.scan_s.get(source)
+        elapsed_s = 0.0 if previous_s is None else stamp_s - previous_s
+        self.scan_s[source] = stamp_s
         if len(ends_xy) == 0:
             return
         origin = np.asarray(origin_xy, float).reshape(1, 2)

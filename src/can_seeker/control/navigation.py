@@ -8,7 +8,7 @@ its arc through the live scan and the remembered obstacles).
 """
 import math
 from dataclasses import dataclass
-from typing import Optional, Sequence, Tuple
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -77,35 +77,32 @@ class Navigator:
                  plan_margin_m: float, safety_margin_m: float, memory_s: float = np.inf):
         self.grid = GridMap(resolution_m, size_m)
         self.memory_s = memory_s
-        self.scan_s = -np.inf
         self.robot_radius_m = robot_radius_m
         self.plan_margin_m = plan_margin_m
         self.safety_margin_m = safety_margin_m
         self.pose: Optional[Pose2D] = None
-        self.scan_points = np.zeros((0, 2))
-        self.scan_pose: Optional[Pose2D] = None
+        self.last_scans: Dict[str, Tuple[np.ndarray, Pose2D]] = {}
 
     def reset(self) -> None:
-        """Forget the map, the pose and the last scan."""
+        """Forget the map, the pose and the last scans."""
         self.grid.clear()
-        self.scan_s = -np.inf
         self.pose = None
-        self.scan_points = np.zeros((0, 2))
-        self.scan_pose = None
+        self.last_scans = {}
 
     def add_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base: Sequence[float],
-                 pose: Pose2D, range_min_m: float = 0.0, stamp_s: float = 0.0) -> None:
-        """One range scan taken at ``pose``: the end of every ray in base_link (N x 2), where
-        ``hits`` marks a return (else the ray ends at the range it vouches for), from the
-        sensor at ``origin_base``, which is blind nearer than ``range_min_m``, at ``stamp_s``."""
+                 pose: Pose2D, range_min_m: float = 0.0, stamp_s: float = 0.0,
+                 source: str = '') -> None:
+        """One range scan of sensor ``source`` taken at ``pose``: the end of every ray in
+        base_link (N x 2), where ``hits`` marks a return (else the ray ends at the range it
+        vouches for), from the sensor at ``origin_base``, which is blind nearer than
+        ``range_min_m``, at ``stamp_s``. Each sensor's last scan is kept: what any of them
+        sees is an obstacle."""
         ends = np.asarray(ends_base, float).reshape(-1, 2)
         hits = np.asarray(hits, bool).reshape(-1)
-        self.scan_points = ends[hits]
-        self.scan_pose = pose
+        self.last_scans[source] = (ends[hits], pose)
         origin = avoidance.from_frame(np.asarray(origin_base, float), pose.x, pose.y, pose.yaw)
         self.grid.add_scan(origin[0], avoidance.from_frame(ends, pose.x, pose.y, pose.yaw), hits,
-                           range_min_m, stamp_s)
-        self.scan_s = stamp_s
+                           range_min_m, stamp_s, source)
 
     def mark_seen(self, view: CameraView) -> None:
         """The camera covered its footprint from the current pose."""
@@ -131,7 +128,8 @@ class Navigator:
     def obstacles_base(self, exclude_xy: Optional[Sequence[float]] = None,
                        exclude_radius_m: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
         """(points N x 2 in base_link now, clearance m each) of what the robot must keep away
-        from: the last scan (moved by the motion since; ``robot_radius`` + ``safety_margin``)
+        from: each sensor's last scan (moved by the motion since; ``robot_radius`` +
+        ``safety_margin``)
         and the remembered obstacle cells around the robot (where each was hit, the clearance
         grown by :attr:`cell_spread_m`), without those near ``exclude_xy`` (odom). A remembered
         obstacle out of the sensor's view stays until a scan sees its place free; one that
@@ -143,10 +141,9 @@ class Navigator:
         clearance_m = self.robot_radius_m + self.safety_margin_m
         cells = self.grid.obstacle_points((pose.x, pose.y), MEMORY_RADIUS_M, self.memory_s)
         points, clearances = [cells], [np.full(len(cells), clearance_m + self.cell_spread_m)]
-        if self.scan_pose is not None and len(self.scan_points):
-            scan = self.scan_pose
-            points.append(avoidance.from_frame(self.scan_points, scan.x, scan.y, scan.yaw))
-            clearances.append(np.full(len(self.scan_points), clearance_m))
+        for scan_points, scan in self.last_scans.values():
+            points.append(avoidance.from_frame(scan_points, scan.x, scan.y, scan.yaw))
+            clearances.append(np.full(len(scan_points), clearance_m))
         odom_points, clearance = np.concatenate(points), np.concatenate(clearances)
         if exclude_xy is not None:
             keep = avoidance.far_from(odom_points, exclude_xy, exclude_radius_m)

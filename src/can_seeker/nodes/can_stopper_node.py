@@ -2,14 +2,15 @@
 
 Subscribes ``/image_converter/detection`` (can_seeker/CanDetection), ``camera_info``
 (sensor_msgs/CameraInfo, for the floor the camera covers), ``~odom_topic`` (nav_msgs/Odometry)
-and ``~scan_topic`` (sensor_msgs/LaserScan of obstacles, any frame in TF); publishes
-``/cmd_vel`` (geometry_msgs/Twist) and ``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the same
-command stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep`` once per
-detection, stamped like its image; ``~state`` (std_msgs/String, latched); ``~reset``
-(std_srvs/Empty) returns to SEARCH and forgets the map. The behaviour is
+and every topic of ``~scan_topics`` (sensor_msgs/LaserScan of obstacles, any frame in TF);
+publishes ``/cmd_vel`` (geometry_msgs/Twist) and ``cmd_vel_stamped`` (geometry_msgs/TwistStamped,
+the same command stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep``
+once per detection, stamped like its image; ``~state`` (std_msgs/String, latched);
+``/diagnostics`` (each input's rate and age, the state and why the command is zero or limited);
+``~reset`` (std_srvs/Empty) returns to SEARCH and forgets the map. The behaviour is
 :mod:`can_seeker.control.controller`. Invalid safety bounds among the parameters stop the node
 at start (exit status 1); every control tick ends in a published command, zero when anything in
-it failed.
+it failed; a missing or stale input is warned about, throttled per input.
 """
 import math
 import sys
@@ -28,19 +29,24 @@ from std_srvs.srv import Empty, EmptyResponse
 from can_seeker.camera_geometry import (camera_pose_from_transform, intrinsics_from_k,
                                         yaw_from_quaternion)
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
-                                detection_problem, sighting_from_detection)
+                                detection_problem, problems_text, sighting_from_detection)
 from can_seeker.control.frame_inputs import FrameInputs
 from can_seeker.control.navigation import Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from can_seeker.control.tick_guard import TickGuard
 from can_seeker.control.twist_limits import ZERO, require_finite
+from can_seeker.health import ERROR, WARN, InputMonitor
 from can_seeker.msg import CanDetection
+from can_seeker.nodes.diagnostics import NodeDiagnostics
 from can_seeker.params import UnsafeParamError, read_params
+from can_seeker.throttle import KindThrottle
 
 BASE_FRAME = 'base_link'
 COVERAGE_PERIOD_S = 1.0
 LOCKSTEP_QUEUE = 100
 """Odometry and scan messages kept in lockstep (a few arrive per camera frame)."""
+MISSING_INPUT_LOG_PERIOD_S = 5.0
+"""A missing or stale input is warned about at most this often, per input (s)."""
 SHUTDOWN_ZERO_COUNT = 5
 SHUTDOWN_ZERO_SPACING_S = 0.02
 TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
@@ -76,24 +82,58 @@ class CanStopperNode:
         self.odom_frame = 'odom'
         self.published_state = None
         self.publish_state()
+        self.missing_input_log = KindThrottle(MISSING_INPUT_LOG_PERIOD_S)
+        params = self.params
+        # Missing, an input the controller needs is an error, one it could use a warning.
+        self.monitors = {
+            'detection': InputMonitor('detection', params.detection_timeout,
+                                      WARN if self.controller.wander else ERROR),
+            'odometry': InputMonitor('odometry', params.odom_timeout,
+                                     ERROR if self.controller.senses_obstacles else WARN),
+            'camera_info': InputMonitor('camera_info', missing_level=WARN)}
+        self.monitors.update({topic: InputMonitor('scan %s' % topic, params.scan_timeout)
+                              for topic in self.controller.scan_sources})
         rospy.Service('~reset', Empty, self.on_reset)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
         # Lockstep keeps every odometry and scan message: the answers must not depend on which
         # ones a busy machine would have dropped.
-        input_queue = LOCKSTEP_QUEUE if self.params.lockstep else 1
-        odom_sub = rospy.Subscriber(self.params.odom_topic, Odometry, self.on_odom,
+        input_queue = LOCKSTEP_QUEUE if params.lockstep else 1
+        odom_sub = rospy.Subscriber(params.odom_topic, Odometry, self.on_odom,
                                     queue_size=input_queue, tcp_nodelay=True)
-        scan_sub = None
-        if self.params.scan_topic:
-            scan_sub = rospy.Subscriber(self.params.scan_topic, LaserScan, self.on_scan,
-                                        queue_size=input_queue, tcp_nodelay=True)
+        scan_subs = {topic: rospy.Subscriber(topic, LaserScan, self.on_scan, callback_args=topic,
+                                             queue_size=input_queue, tcp_nodelay=True)
+                     for topic in self.controller.scan_sources}
         self.frame_inputs = FrameInputs(
             lambda: odom_sub.get_num_connections() > 0,
-            lambda: scan_sub is not None and scan_sub.get_num_connections() > 0)
+            lambda topic: scan_subs[topic].get_num_connections() > 0,
+            self.controller.scan_sources)
         rospy.Subscriber('/image_converter/detection', CanDetection, self.on_detection,
                          queue_size=input_queue, tcp_nodelay=True)
+        self.diagnostics = NodeDiagnostics()
+        self.diagnostics.add('control', self.control_health)
+        for monitor in self.monitors.values():
+            self.diagnostics.add_input(monitor)
         rospy.on_shutdown(self.on_shutdown)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / self.params.rate), self.on_timer)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / params.rate), self.on_timer)
+        self.diagnostics.start()
+
+    def control_health(self):
+        """The state, why the command is zero or limited, and the missing inputs."""
+        now = rospy.get_time()
+        with self.lock:
+            return self.controller.health(now, self.why(now))
+
+    def why(self, now):
+        """Why the last command was zero or limited (under the lock). In lockstep the timer's
+        zero of a stale detection bypasses the controller: the missing inputs say why."""
+        if self.params.lockstep and self.stale_detection(now):
+            return problems_text(self.controller.missing_inputs(now))
+        return self.controller.why
+
+    def stale_detection(self, now):
+        """Whether a detection came and is stale now (in lockstep the timer then sends
+        zero)."""
+        return self.controller.is_stale(now) and self.controller.last_image_s is not None
 
     def sensor_pose(self, frame_id):
         """The full pose (CameraPose: position, rotation) of a frame in base_link from TF,
@@ -114,6 +154,7 @@ class CanStopperNode:
 
     def on_camera_info(self, info):
         """The camera's floor footprint, once per camera frame (for the coverage grid)."""
+        self.monitors['camera_info'].received(rospy.get_time(), info.header.stamp.to_sec())
         if self.controller.camera_view is not None:
             return
         pose = self.sensor_pose(info.header.frame_id)
@@ -131,6 +172,7 @@ class CanStopperNode:
             self.controller.set_camera_view(view)
 
     def on_odom(self, odom):
+        self.monitors['odometry'].received(rospy.get_time(), odom.header.stamp.to_sec())
         pose = odom.pose.pose
         orientation = pose.orientation
         yaw = yaw_from_quaternion(orientation.x, orientation.y, orientation.z, orientation.w)
@@ -146,8 +188,9 @@ class CanStopperNode:
             self.frame_inputs.pose(pose_2d, odom.header.stamp.to_sec())
             self.answer_frames()
 
-    def on_scan(self, scan):
-        """A range scan: its rays into base_link through the sensor's pose in TF."""
+    def on_scan(self, scan, topic):
+        """A range scan of ``topic``: its rays into base_link through the sensor's pose in TF."""
+        self.monitors[topic].received(rospy.get_time(), scan.header.stamp.to_sec())
         sensor = self.sensor_pose(scan.header.frame_id)
         if sensor is None:
             return
@@ -158,9 +201,11 @@ class CanStopperNode:
         observation = (ends_3d[:, :2], hits, sensor.position[:2])
         with self.lock:
             if not self.params.lockstep:
-                self.controller.observe_scan(*observation, rospy.get_time(), scan.range_min)
+                self.controller.observe_scan(topic, *observation, rospy.get_time(),
+                                             scan.range_min)
                 return
-            self.frame_inputs.scan(observation + (scan.range_min,), scan.header.stamp.to_sec())
+            self.frame_inputs.scan(topic, observation + (scan.range_min,),
+                                   scan.header.stamp.to_sec(), scan.scan_time)
             self.answer_frames()
 
     def camera_pose(self, frame_id):
@@ -183,6 +228,7 @@ class CanStopperNode:
         return pose
 
     def on_detection(self, detection):
+        self.monitors['detection'].received(rospy.get_time(), detection.header.stamp.to_sec())
         problem = detection_problem(detection.found, detection.range, detection.bearing)
         if problem:
             rospy.logerr_throttle(2.0, 'can_stopper: ignoring the can in this detection: %s'
@@ -209,7 +255,8 @@ class CanStopperNode:
             if kind == 'pose':
                 self.controller.observe_pose(value, stamp_s)
             elif kind == 'scan':
-                self.controller.observe_scan(*value[:3], stamp_s, value[3])
+                topic, (ends, hits, origin, range_min) = value
+                self.controller.observe_scan(topic, ends, hits, origin, stamp_s, range_min)
             elif not self.shutting_down:
                 stamp = rospy.Time.from_sec(stamp_s)
                 self.guard.run(lambda: self.answer_frame(value, stamp_s, stamp),
@@ -247,10 +294,9 @@ class CanStopperNode:
         with self.lock:
             if self.shutting_down:
                 return
-            stale = self.controller.is_stale(now) and self.controller.last_image_s is not None
             if not self.params.lockstep:
                 self.publish_command(self.controller.command(now), rospy.Time.from_sec(now))
-            elif stale:
+            elif self.stale_detection(now):
                 # Leaves the controller's command history alone: its timing stays the frames'.
                 self.publish_command(ZERO, rospy.Time.from_sec(now))
             coverage = None
@@ -258,14 +304,20 @@ class CanStopperNode:
                     and abs(now - self.coverage_s) >= COVERAGE_PERIOD_S):
                 self.coverage_s = now
                 coverage = self.controller.navigator.grid.occupancy_values()
+            missing = self.controller.missing_inputs(now)
+            state, why = self.controller.state.value, self.why(now)
         if coverage is not None:
             self.publish_coverage(coverage, now)
-        if stale:
-            rospy.logwarn_throttle(5.0, 'can_stopper: no %s fresher than %.2f s: zero Twist'
-                                   % (('odometry', self.params.odom_timeout)
-                                      if self.controller.wander
-                                      else ('detection', self.params.detection_timeout)))
+        self.warn_missing(missing, state, why, now)
         self.publish_state()
+
+    def warn_missing(self, missing, state, why, now):
+        """Warn about each overdue input, at most once per input and period."""
+        for item in missing:
+            if item.overdue and self.missing_input_log.allow(item.name, now)[0]:
+                rospy.logwarn('can_stopper: %s in %s; %s' % (
+                    item.problem, state, 'command: %s' % why if why else
+                    'command not limited by it'))
 
     def publish_coverage(self, values, now):
         """The obstacle and coverage grid as an OccupancyGrid in odom (100 obstacle, 0 floor the

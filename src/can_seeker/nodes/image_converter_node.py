@@ -2,7 +2,9 @@
 
 Subscribes ``image`` (queue_size=1 and a large buff_size: always the newest frame) and
 ``camera_info``; publishes ``~detection`` and, only while someone subscribes, ``~annotated``
-(bgr8), ``~mask`` and ``~edges`` (mono8). Thresholds are tunable with dynamic_reconfigure.
+(bgr8), ``~mask`` and ``~edges`` (mono8), and /diagnostics (the rates and ages of the
+images and camera_info, what became of the recent frames). Thresholds are tunable with
+dynamic_reconfigure.
 The camera pose for range and bearing comes from TF (``~base_frame`` <- image frame), else
 from ``~camera_height``/``~camera_pitch_deg``.
 """
@@ -21,6 +23,8 @@ from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_fr
 from can_seeker.cfg import ImageConverterConfig
 from can_seeker.gui.display_check import OPENCV_WINDOW_PROBE, display_problem
 from can_seeker.gui.windows import ImageWindows
+from can_seeker.health import ERROR, OK, WARN, InputMonitor, Outcomes
+from can_seeker.nodes.diagnostics import NodeDiagnostics
 from can_seeker.vision.report import PARAMS, CanModel, can_report, fallback_pose
 from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
 from can_seeker.msg import CanDetection
@@ -40,6 +44,31 @@ per frame and leaves the other core to the camera and the controller."""
 POSE_REFRESH_S = 1.0
 """A camera pose found in TF is reused for this long (wall time): a camera mount is static,
 and a TF lookup per frame costs more than the rest of the geometry."""
+IMAGE_TIMEOUT_S = 1.0
+"""The diagnostics report the camera as missing once its newest image is this old (s)."""
+
+
+def frame_outcome(found, range_m, intrinsics, pose):
+    """(outcome, level) of a processed frame for the diagnostics."""
+    if not found:
+        return 'no red object', OK
+    if intrinsics is None or pose is None:
+        return 'red object, no range: camera geometry unknown', WARN
+    if np.isfinite(range_m):
+        return 'red object with a range', OK
+    return 'red object without a range', OK
+
+
+def image_diagnostics(node_outcomes):
+    """A NodeDiagnostics with the image and camera_info inputs of an image node and its
+    ``node_outcomes`` (an Outcomes, as status 'frames'); the two InputMonitors."""
+    image = InputMonitor('image', IMAGE_TIMEOUT_S)
+    camera_info = InputMonitor('camera_info', missing_level=WARN)
+    diagnostics = NodeDiagnostics()
+    diagnostics.add('frames', node_outcomes.health)
+    diagnostics.add_input(image)
+    diagnostics.add_input(camera_info)
+    return diagnostics, image, camera_info
 
 
 class ArrayImage(Image):
@@ -105,9 +134,13 @@ class ImageConverterNode:
         self.mask_pub = rospy.Publisher('~mask', Image, queue_size=1)
         self.edges_pub = rospy.Publisher('~edges', Image, queue_size=1)
         self.reconfigure = Server(ImageConverterConfig, self.on_reconfigure)
+        self.outcomes = Outcomes()
+        self.diagnostics, self.image_monitor, self.info_monitor = image_diagnostics(
+            self.outcomes)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
         rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE,
                          tcp_nodelay=True)
+        self.diagnostics.start()
 
     def _make_display(self, show):
         """Image windows when ~show is true and a window can be opened; else None (headless)."""
@@ -131,6 +164,7 @@ class ImageConverterNode:
         return config
 
     def on_camera_info(self, msg):
+        self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
             self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
         except ValueError as error:
@@ -174,14 +208,17 @@ class ImageConverterNode:
         return pose
 
     def on_image(self, msg):
+        self.image_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
             bgr = decode_image_msg(msg)
         except NoColourError as error:
             rospy.logwarn_once('image_converter: %s' % error)
+            self.outcomes.add('grey images: no colour to find red in', ERROR)
             self.publish_detection(msg, can_report((), msg.width, msg.height, None, None,
                                                    self.can_model))
             return
         except ImageDecodeError as error:
+            self.outcomes.add('skipped: %s' % error.kind, ERROR)
             self.log_decode_error(error)
             return
         # Subscribers come and go while a frame is processed: decide once what to build.
@@ -194,6 +231,7 @@ class ImageConverterNode:
         report = can_report(result.candidates, msg.width, msg.height, pose, intrinsics,
                             self.can_model)
         self.publish_detection(msg, report)
+        self.outcomes.add(*frame_outcome(result.found, report.range_m, intrinsics, pose))
         if want_mask:
             self.mask_pub.publish(image_msg(msg.header, result.mask, 'mono8'))
         if publish_edges:

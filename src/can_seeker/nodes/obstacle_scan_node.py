@@ -3,8 +3,10 @@
 Subscribes ``image`` (queue_size=1, large buff_size: always the newest frame) and
 ``camera_info``; publishes ``camera_scan`` (sensor_msgs/LaserScan in ``~scan_frame``, stamped
 with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``~obstacles``
-(mono8). The camera pose comes from TF (``~scan_frame`` <- image frame), cached and refreshed
-once a second, else from ``~camera_height``/``~camera_pitch_deg``. ``~reset`` (std_srvs/Empty)
+(mono8), and /diagnostics (the rates and ages of the images and camera_info, whether the
+recent frames gave a scan and if not why). The camera pose comes from TF (``~scan_frame`` <-
+image frame), cached and refreshed once a second, else from
+``~camera_height``/``~camera_pitch_deg``. ``~reset`` (std_srvs/Empty)
 forgets the learned floor model, so a new trial does not inherit the last one's.
 """
 import threading
@@ -17,7 +19,8 @@ from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
-from can_seeker.nodes.image_converter_node import IMAGE_BUFF_SIZE, image_msg
+from can_seeker.health import ERROR, OK, Outcomes
+from can_seeker.nodes.image_converter_node import IMAGE_BUFF_SIZE, image_diagnostics, image_msg
 from can_seeker.params import read_params
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
@@ -53,10 +56,14 @@ class ObstacleScanNode:
         self.scan_pub = rospy.Publisher('camera_scan', LaserScan, queue_size=1)
         self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
         self.obstacles_pub = rospy.Publisher('~obstacles', Image, queue_size=1)
+        self.outcomes = Outcomes()
+        self.diagnostics, self.image_monitor, self.info_monitor = image_diagnostics(
+            self.outcomes)
         rospy.Service('~reset', Empty, self.on_reset)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
         rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE,
                          tcp_nodelay=True)
+        self.diagnostics.start()
 
     def on_reset(self, _request):
         with self.scanner_lock:
@@ -64,6 +71,7 @@ class ObstacleScanNode:
         return EmptyResponse()
 
     def on_camera_info(self, msg):
+        self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
             self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
         except ValueError as error:
@@ -107,12 +115,15 @@ class ObstacleScanNode:
         return intrinsics
 
     def on_image(self, msg):
+        self.image_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
             bgr = decode_image_msg(msg)
         except NoColourError as error:
             rospy.logwarn_once('obstacle_scan: no scan from grey images: %s' % error)
+            self.outcomes.add('no scan: grey images', ERROR)
             return
         except ImageDecodeError as error:
+            self.outcomes.add('skipped: %s' % error.kind, ERROR)
             self.log_decode_error(error)
             return
         # Subscribers come and go while a frame is processed: decide once what to build.
@@ -124,7 +135,13 @@ class ObstacleScanNode:
             result = self.scanner.scan(bgr, pose, intrinsics)
         if result.ranges is not None:
             self.publish_scan(msg.header.stamp, result.ranges)
-        elif intrinsics is not None and pose is not None:
+            self.outcomes.add('scan', OK)
+        elif intrinsics is None:
+            self.outcomes.add('no scan: no usable camera_info', ERROR)
+        elif pose is None:
+            self.outcomes.add('no scan: camera pose unknown', ERROR)
+        else:
+            self.outcomes.add('no scan: no floor in view within ~max_range', ERROR)
             rospy.logwarn_throttle(ERROR_PERIOD_S, 'obstacle_scan: the camera sees no floor '
                                    'within ~max_range: no scan')
         if want_obstacles:

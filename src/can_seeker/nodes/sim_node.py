@@ -8,7 +8,8 @@ odometry that drifts), static TF base_link->camera_link->camera_optical_frame fr
 camera parameters and base_link->base_scan, and ground truth in the world frame:
 /sim/base_pose_ground_truth (the true pose and twist), /sim/can_pose, /sim/contact and
 /sim/contacts (whether and what the robot touched at any physics step since the previous
-message) and /sim/world (latched: the scene in the world-file format).
+message) and /sim/world (latched: the scene in the world-file format), and /diagnostics (sim
+time and pace, lockstep time-outs, the age and rate of the commands).
 Subscribes /cmd_vel, or in lockstep cmd_vel_stamped. Services /sim/reset, /sim/reset_trial,
 /sim/place_can, /sim/new_world, /sim/pause_physics and /sim/unpause_physics run on the simulation
 thread between physics steps (in lockstep, after the current frame was answered).
@@ -32,9 +33,12 @@ from can_seeker.sim.call_queue import CallQueue
 from can_seeker.sim.lockstep import LockstepGate, header_stamp_s, parse_topics
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.gui.display_check import X11_PROBE, display_problem
+from can_seeker.health import WARN, InputMonitor
+from can_seeker.nodes.diagnostics import NodeDiagnostics
 from can_seeker.params import read_params
 from can_seeker.sim.simulation import (PARAMS, Simulation, camera_spec, can_visible_from_start,
                                        checked_config, scene_for)
+from can_seeker.sim.status import RunStatus
 from can_seeker.srv import (NewWorld, NewWorldResponse, PlaceCan, PlaceCanResponse, ResetTrial,
                             ResetTrialResponse)
 from can_seeker.sim.world import World, package_urdf_path, package_worlds_dir
@@ -156,17 +160,32 @@ class SimNode:
                        (0.0, 0.0, 0.0, 1.0)),
         ])
         self._publish_world()
+        self._frames = 0
+        self._run_status = RunStatus()
+        self._commands = InputMonitor('cmd_vel_stamped' if self._gate else 'cmd_vel',
+                                      config.cmd_timeout, WARN)
         self._lockstep_inputs = []
         if self._gate is None:
             rospy.Subscriber('cmd_vel', Twist, self._on_cmd_vel, queue_size=10)
         else:
             self._subscribe_lockstep(parse_topics(config.lockstep_topics))
+        self._diagnostics = NodeDiagnostics()
+        self._diagnostics.add('simulation', self._health)
+        self._diagnostics.add('commands', lambda: self._commands.health(self._sim.time_s))
         rospy.Service('~reset', Empty, self._on_reset)
         rospy.Service('~reset_trial', ResetTrial, self._on_reset_trial)
         rospy.Service('~place_can', PlaceCan, self._on_place_can)
         rospy.Service('~pause_physics', Empty, lambda _: self._set_paused(True))
         rospy.Service('~unpause_physics', Empty, lambda _: self._set_paused(False))
         rospy.Service('~new_world', NewWorld, self._on_new_world)
+        self._diagnostics.start()
+
+    def _health(self):
+        """Sim time and pace, paused or not, lockstep time-outs (diagnostics thread)."""
+        gate = self._gate
+        return self._run_status.report(
+            self._sim.time_s, time.monotonic(), self._paused, self._frames,
+            None if gate is None else gate.timeouts, () if gate is None else gate.missing())
 
     @staticmethod
     def _scan_template(spec, rate_hz):
@@ -208,6 +227,7 @@ class SimNode:
 
     def _on_stamped_command(self, command: TwistStamped):
         stamp_s = command.header.stamp.to_sec()
+        self._commands.received(self._sim.time_s, stamp_s)
         if stamp_s > self._reset_s:
             self._on_cmd_vel(command.twist)
         self._gate.answered(self._lockstep_inputs[0][0], stamp_s)
@@ -224,6 +244,8 @@ class SimNode:
         return EmptyResponse()
 
     def _on_cmd_vel(self, twist: Twist):
+        if self._gate is None:
+            self._commands.received(self._sim.time_s)
         linear_mps, angular_radps = twist.linear.x, twist.angular.z
         if not (math.isfinite(linear_mps) and math.isfinite(angular_radps)):
             rospy.logerr_throttle(ERROR_THROTTLE_S, 'sim: ignoring /cmd_vel with a non-finite '
@@ -366,6 +388,7 @@ class SimNode:
             if result.scan is not None:
                 self._publish_scan(result.scan, stamp)
             if result.image is not None:
+                self._frames += 1
                 self._publish_image(result.image, rospy.Time.from_sec(result.image_time_s))
                 if self._gate is not None:
                     self._gate.hold(result.image_time_s, self._awaited_inputs())

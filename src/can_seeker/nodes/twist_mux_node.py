@@ -2,8 +2,8 @@
 
 Inputs come from ``~inputs`` (topic:priority:timeout_s, e.g. keyboard teleop over can_stopper);
 the rules are :mod:`can_seeker.teleop.mux`. Publishes ``~active`` (std_msgs/String, latched:
-the input in control, or empty), one zero Twist when every input has gone stale, and zero on
-shutdown.
+the input in control, or empty), one zero Twist when every input has gone stale, zero on
+shutdown, and /diagnostics (the input in control; each input's rate and age).
 """
 import threading
 import time
@@ -12,6 +12,8 @@ import rospy
 from geometry_msgs.msg import Twist
 from std_msgs.msg import String
 
+from can_seeker.health import OK, WARN, Health, InputMonitor
+from can_seeker.nodes.diagnostics import NodeDiagnostics
 from can_seeker.params import read_params
 from can_seeker.teleop.mux import PARAMS, TwistMux, parse_inputs
 
@@ -36,7 +38,12 @@ class TwistMuxNode:
         self.active_pub = rospy.Publisher('~active', String, queue_size=1, latch=True)
         self.active_topic = None
         self.publish_active(rospy.get_time())
+        # A silent input is normal (nobody at the keys): its status stays OK.
+        self.monitors = [InputMonitor(entry.topic, entry.timeout_s, OK) for entry in inputs]
+        self.diagnostics = NodeDiagnostics()
+        self.diagnostics.add('output', self.output_health)
         for index, entry in enumerate(inputs):
+            self.diagnostics.add_input(self.monitors[index])
             rospy.Subscriber(entry.topic, Twist, self.on_command, callback_args=index,
                              queue_size=1)
             rospy.loginfo('twist_mux: input %s (resolved %s), priority %d, timeout %.2f s'
@@ -44,6 +51,16 @@ class TwistMuxNode:
                              entry.timeout_s))
         rospy.on_shutdown(self.on_shutdown)
         self.timer = rospy.Timer(rospy.Duration(1.0 / params.rate), self.on_timer)
+        self.diagnostics.start()
+
+    def output_health(self):
+        """The input in control, or WARN when none is: cmd_vel is zero."""
+        with self.lock:
+            active = self.mux.active(rospy.get_time())
+        if active is None:
+            return Health(WARN, 'no fresh input: zero Twist sent', (('active', 'none'),))
+        return Health(OK, 'forwarding %s (priority %d)' % (active.topic, active.priority),
+                      (('active', active.topic),))
 
     def publish_active(self, now_s):
         """Publish the input in control when it changed (call with the lock held)."""
@@ -55,6 +72,7 @@ class TwistMuxNode:
 
     def on_command(self, message, index):
         now_s = rospy.get_time()
+        self.monitors[index].received(now_s)
         with self.lock:
             if not self.shutting_down and self.mux.offer(index, now_s):
                 self.cmd_pub.publish(message)

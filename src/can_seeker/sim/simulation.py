@@ -189,6 +189,8 @@ def checked_config(params: SimpleNamespace, warn: Callable[[str], None],
             warn('~%s %r is above ~physics_rate %r; using %r'
                  % (name, getattr(config, name), config.physics_rate, config.physics_rate))
             setattr(config, name, config.physics_rate)
+    if config.lockstep and config.scan_rate > 0.0:
+        config.scan_rate = _whole_step_rate(config.scan_rate, config.physics_rate, warn)
     if config.can_max_distance < config.can_min_distance:
         warn('~can_max_distance %r is below ~can_min_distance %r; using %r for both'
              % (config.can_max_distance, config.can_min_distance, config.can_min_distance))
@@ -213,6 +215,20 @@ def checked_config(params: SimpleNamespace, warn: Callable[[str], None],
     config.scene = scene_for(config, config.seed, warn)
     config.can_position = config.scene.can_xy
     return config
+
+
+def _whole_step_rate(rate_hz: float, physics_rate_hz: float,
+                     warn: Callable[[str], None]) -> float:
+    """The lidar rate in lockstep: a whole number of physics steps per scan, so every scan
+    comes exactly one scan_time after the previous one (a controller in lockstep waits for the
+    scans due by each frame from that period); another rate is warned about and rounded."""
+    steps = physics_rate_hz / rate_hz
+    if abs(steps - round(steps)) < 1e-6:
+        return rate_hz
+    whole_rate_hz = physics_rate_hz / max(1, round(steps))
+    warn('~scan_rate %r Hz is %.3f physics steps per scan; in lockstep a scan comes every '
+         'whole number of steps: using %r Hz' % (rate_hz, steps, whole_rate_hz))
+    return whole_rate_hz
 
 
 def scene_for(config: SimpleNamespace, seed: int, warn: Callable[[str], None]) -> Scene:

@@ -6,7 +6,8 @@ are reset through their services. Each trial rebuilds the world from its seed (t
 seed + i, so ``--seed S+i --trials 1`` repeats it): in the empty world the can stands at a random
 bearing and distance, in a room (``--world room``) the obstacles and the can are drawn anew, in a
 world file the can is drawn unless the file places it; with ``--randomize-appearance`` the
-floor, wall and obstacle colours are drawn from the seed too. Prints a progress bar, then a
+floor, wall and obstacle colours are drawn from the seed too. ``--scan-topics "/camera_scan
+/scan"`` lets can_stopper fuse the camera scan and the lidar. Prints a progress bar, then a
 summary table; ``--json FILE`` writes every trial and the summary. Exits 1 when a trial failed.
 
 Scale out: ``--jobs N`` runs N independent systems (each its own master on its own port) in
@@ -50,7 +51,7 @@ SIM = defaults(SIM_PARAMS)
 CONTROL = defaults(CONTROL_PARAMS)
 WORLD_OPTIONS = ('world', 'obstacles', 'room_size', 'floor_rgba', 'wall_rgba', 'obstacle_rgba',
                  'can_texture', 'realism')
-CONTROL_OPTIONS = ('scan_topic',)
+CONTROL_OPTIONS = ('scan_topics',)
 
 
 def parse_args(argv):
@@ -85,9 +86,11 @@ def parse_args(argv):
     parser.add_argument('--wall-rgba', default=SIM.wall_rgba, help='wall colour "R G B A"')
     parser.add_argument('--obstacle-rgba', default=SIM.obstacle_rgba,
                         help='obstacle colour "R G B A"')
-    parser.add_argument('--scan-topic', default=CONTROL.scan_topic,
-                        help='obstacle scan can_stopper drives by: /camera_scan (the camera), '
-                        '/scan (the simulated lidar), or "" for none')
+    parser.add_argument('--scan-topics', '--scan-topic', dest='scan_topics',
+                        default=CONTROL.scan_topics,
+                        help='obstacle scans can_stopper drives by, separated by spaces: '
+                        '/camera_scan (the camera), /scan (the simulated lidar), both (an '
+                        'obstacle either sees is one), or "" for none')
     parser.add_argument('--randomize-appearance', action='store_true',
                         help='draw the floor (plain or checkered, light or dark), wall and '
                         'obstacle colours of each trial from its seed, instead of the '
@@ -167,7 +170,7 @@ def launch_args(args):
             'room_width': room_width, 'floor_rgba': args.floor_rgba,
             'wall_rgba': args.wall_rgba, 'obstacle_rgba': args.obstacle_rgba,
             'can_texture': args.can_texture, 'realism': args.realism,
-            'scan_topic': args.scan_topic, 'lockstep': str(args.lockstep).lower(),
+            'scan_topics': args.scan_topics, 'lockstep': str(args.lockstep).lower(),
             'randomize_appearance': str(args.randomize_appearance).lower()}
 
 
@@ -357,7 +360,7 @@ def main():
                       record_settings['width'], record_settings['height'],
                       record_settings['camera_height'], record_settings['camera_pitch'],
                       record_settings.get('can_texture', 'plain'),
-                      record_settings['can_rgba'], record_settings.get('scan_topic') or 'none',
+                      record_settings['can_rgba'], record_settings.get('scan_topics') or 'none',
                       record_settings.get('realism', 'ideal')))
     print(summary_table(summary))
     if args.json:

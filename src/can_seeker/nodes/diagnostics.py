@@ -1,0 +1,54 @@
+"""A node's /diagnostics (diagnostic_updater): one status per input and per concern, each
+built by a pure function returning a :class:`can_seeker.health.Health`.
+
+Published once a second of wall-clock time from a thread of its own, so a node still reports
+while the simulator's clock stands still (paused, or stalled in lockstep); ages and rates are
+on the node's clock (sim time under ``use_sim_time``).
+"""
+import threading
+import time
+
+import diagnostic_updater
+import rospy
+
+from can_seeker.health import InputMonitor
+
+PERIOD_S = 1.0
+ERROR_PERIOD_S = 60.0
+
+
+class NodeDiagnostics:
+    """diagnostic_updater tasks of one node; :meth:`start` begins publishing."""
+
+    def __init__(self):
+        self.updater = diagnostic_updater.Updater()
+        self.updater.setHardwareID('none')
+        self._thread = threading.Thread(target=self._publish, name='diagnostics', daemon=True)
+
+    def add(self, name, health):
+        """A status ``name`` from ``health()`` (a Health)."""
+        def run(status):
+            report = health()
+            status.summary(report.level, report.message)
+            for key, value in report.values:
+                status.add(key, value)
+            return status
+        self.updater.add(name, run)
+
+    def add_input(self, monitor: InputMonitor):
+        """The status of an input: its rate and the age of its newest message."""
+        self.add(monitor.name, lambda: monitor.health(rospy.get_time()))
+
+    def start(self):
+        self._thread.start()
+
+    def _publish(self):
+        while not rospy.is_shutdown():
+            time.sleep(PERIOD_S)
+            try:
+                self.updater.force_update()
+            except rospy.ROSException:  # shutting down: the publisher is gone
+                return
+            except Exception as error:  # a failing status must not end the others
+                rospy.logerr_throttle(ERROR_PERIOD_S, 'diagnostics failed: %s: %s'
+                                      % (type(error).__name__, error))

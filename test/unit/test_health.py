@@ -1,0 +1,73 @@
+"""Input rates and ages, and the levels a node's diagnostics report them at."""
+import pytest
+
+from can_seeker.health import ERROR, OK, WARN, Health, InputMonitor, Outcomes, worst
+from can_seeker.sim.status import RunStatus
+
+
+def test_rate_counts_the_recent_arrivals_only():
+    monitor = InputMonitor('image', window_s=2.0)
+    for index in range(45):                      # 15 Hz for 3 s
+        monitor.received(index / 15.0, index / 15.0)
+    assert monitor.rate_hz(44 / 15.0) == pytest.approx(15.0)
+    assert monitor.rate_hz(10.0) == 0.0           # nothing within the last 2 s
+    assert monitor.count == 45
+
+
+def test_age_is_by_stamp_when_stamped_and_by_arrival_otherwise():
+    monitor = InputMonitor('detection')
+    assert monitor.age_s(5.0) is None
+    monitor.received(5.0, 4.6)
+    assert monitor.age_s(5.5) == pytest.approx(0.9)
+    monitor.received(6.0)
+    assert monitor.age_s(6.5) == pytest.approx(0.5)
+
+
+def test_missing_or_stale_input_is_reported_at_its_level():
+    odometry = InputMonitor('odometry', timeout_s=0.5, missing_level=ERROR)
+    assert odometry.health(1.0).level == ERROR
+    assert odometry.health(1.0).message == 'no message yet'
+    odometry.received(1.0, 1.0)
+    odometry.received(1.02, 1.02)
+    fresh = odometry.health(1.1)
+    assert fresh.level == OK and fresh.message.startswith('50.0 Hz, newest 0.080 s old')
+    stale = odometry.health(2.22)
+    assert stale.level == ERROR
+    assert stale.message == 'no message for 1.20 s (timeout 0.50 s)'
+    assert ('timeout (s)', '0.500') in stale.values
+    teleop = InputMonitor('keys', timeout_s=0.5, missing_level=OK)
+    assert teleop.health(3.0).level == OK
+
+
+def test_worst_level():
+    assert worst([]) == OK
+    assert worst([Health(OK, 'a'), Health(ERROR, 'b'), Health(WARN, 'c')]) == ERROR
+
+
+def test_the_simulation_reports_its_pace_and_new_lockstep_timeouts():
+    status = RunStatus()
+    first = status.report(10.0, 100.0, False, 150, 0, ())
+    assert first.level == OK and first.message.startswith('t=10.000 s')
+    running = status.report(13.0, 101.0, False, 195, 0, ())
+    assert running.level == OK and running.message == 't=13.000 s, 3.00x real time'
+    stalled = status.report(13.1, 103.0, False, 196, 1, ('/cmd_vel_stamped',))
+    assert stalled.level == WARN
+    assert stalled.message.startswith('lockstep: 1 frames timed out')
+    assert ('waiting for', '/cmd_vel_stamped') in stalled.values
+    assert status.report(13.1, 104.0, True, 196, 1, ()).message == 'paused at t=13.100 s'
+    free = RunStatus().report(1.0, 1.0, False, 15, None)
+    assert 'lockstep time-outs' not in dict(free.values)
+
+
+def test_outcomes_report_the_worst_of_the_recent_frames():
+    outcomes = Outcomes(window=3)
+    assert outcomes.health().level == WARN
+    outcomes.add('skipped: data length', ERROR)
+    for _ in range(2):
+        outcomes.add('can found')
+    assert outcomes.health().level == ERROR
+    outcomes.add('no can')
+    health = outcomes.health()
+    assert health.level == OK
+    assert health.message == 'last 3 frames: 2 can found, 1 no can'
+    assert ('frames', '4') in health.values
