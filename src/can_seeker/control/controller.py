@@ -51,6 +51,7 @@ from can_seeker.params import Param
 from can_seeker.control import avoidance
 from can_seeker.control.navigation import CLEAR_AHEAD_M, GOAL_REACHED_M, CameraView, Navigator, \
     Pose2D
+from can_seeker.control.pose_history import PoseHistory, sighting_from
 from can_seeker.control.twist_limits import TwistLimits, limit_twist, require_finite
 from can_seeker.sim.lockstep import parse_topics
 
@@ -323,6 +324,7 @@ class Controller:
         self.turn_sign = 1.0
         self.sighting: Optional[Sighting] = None
         self.can_xy: Optional[Tuple[float, float]] = None
+        self.poses = PoseHistory()
         self.last_image_s: Optional[float] = None
         self.lost_since_s = 0.0
         self.seen_since_stop_s = 0.0
@@ -357,14 +359,18 @@ class Controller:
         ``image_stamp_s``: ``sighting`` is its red object (None when it showed none), taken
         as the can by its confidence (see :meth:`_shows_can`). The detection is as fresh as its
         image (an old image that arrives late is no news), but never fresher than its arrival
-        (a clock ahead of ours must not keep it fresh)."""
+        (a clock ahead of ours must not keep it fresh). The can is placed in odom from the pose
+        at the image's stamp, and its gap and bearing are then taken from the pose now: the
+        robot moved while the frame was on its way."""
         if image_stamp_s < self.ignore_before_s or self.wander:
             return
         self.last_image_s = min(now_s, image_stamp_s)
-        can_xy = None if sighting is None else self._can_xy_of(sighting)
+        can_xy = None if sighting is None else self._can_xy_of(
+            sighting, self.poses.at(min(now_s, image_stamp_s)))
         if sighting is not None and not self._shows_can(sighting, can_xy):
             sighting, can_xy = None, None
-        self.sighting = sighting
+        self.sighting = sighting if can_xy is None else self._sighting_now(can_xy,
+                                                                          sighting.confidence)
         if self.camera_view is not None:
             self.navigator.mark_seen(self.camera_view)
         if sighting is not None and sighting.bearing_rad != 0.0:
@@ -382,9 +388,16 @@ class Controller:
         elif self.state is State.STOPPED:
             self._observe_stopped(ranged, now_s)
 
-    def _can_xy_of(self, sighting: Sighting) -> Optional[Tuple[float, float]]:
-        """Where a ranged sighting puts the can's centre in odom (None without range or pose)."""
-        pose = self.navigator.pose
+    def _sighting_now(self, can_xy: Tuple[float, float], confidence: float) -> Sighting:
+        """The can centred at ``can_xy`` (odom) as seen from the latest pose."""
+        gap_m, bearing_rad = sighting_from(can_xy, self.navigator.pose, self.config.robot_radius,
+                                           self.config.can_radius)
+        return Sighting(gap_m, bearing_rad, confidence)
+
+    def _can_xy_of(self, sighting: Sighting,
+                   pose: Optional[Pose2D]) -> Optional[Tuple[float, float]]:
+        """Where a ranged sighting from ``pose`` puts the can's centre in odom (None without
+        range or pose)."""
         if not sighting.has_range or pose is None:
             return None
         distance = sighting.gap_m + self.config.robot_radius + self.config.can_radius
@@ -418,13 +431,19 @@ class Controller:
         if (abs(gap_error) > self.config.reapproach_distance
                 or abs(bearing) > math.radians(self.config.reapproach_bearing_deg)):
             self._enter(State.APPROACH)
-    def observe_pose(self, pose: Pose2D, now_s: float) -> None:
-        """Odometry: base_link's pose in odom at ``now_s``; counts the turn made in SEARCH."""
+    def observe_pose(self, pose: Pose2D, now_s: float,
+                     stamp_s: Optional[float] = None) -> None:
+        """Odometry: base_link's pose in odom received at ``now_s``, stamped ``stamp_s``
+        (default: ``now_s``); counts the turn made in SEARCH, and keeps the gap and bearing of
+        the can seen last up to date with the robot's motion."""
         previous = self.navigator.pose
         if previous is not None and self.state is State.SEARCH:
             self.searched_rad += abs(avoidance.wrap_angle(pose.yaw - previous.yaw))
         self.navigator.pose = pose
         self.pose_s = now_s
+        self.poses.add(now_s if stamp_s is None else stamp_s, pose)
+        if self.sighting is not None and self.sighting.has_range and self.can_xy is not None:
+            self.sighting = self._sighting_now(self.can_xy, self.sighting.confidence)
 
     def observe_scan(self, source: str, ends_base: np.ndarray, hits: np.ndarray, origin_base,
                      now_s: float, range_min_m: float = 0.0):

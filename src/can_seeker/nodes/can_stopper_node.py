@@ -183,7 +183,8 @@ class CanStopperNode:
         pose_2d = Pose2D(pose.position.x, pose.position.y, yaw)
         with self.lock:
             if not self.params.lockstep:
-                self.controller.observe_pose(pose_2d, rospy.get_time())
+                self.controller.observe_pose(pose_2d, rospy.get_time(),
+                                             odom.header.stamp.to_sec())
                 return
             self.frame_inputs.pose(pose_2d, odom.header.stamp.to_sec())
             self.answer_frames()
