@@ -93,7 +93,7 @@ def plot_sweep(rows: Sequence[Tuple[Setting, dict]], path: str, title: str = '')
         if key == 'success_rate':
             axis.set_ylim(-5, 105)
         elif key == 'contacts':
-            axis.set_ylim(bottom=-0.5)
+            axis.set_ylim(-0.5, max([1.0] + [v for v in values if v is not None]) + 0.5)
         else:
             axis.set_ylim(bottom=0)
     if title:
