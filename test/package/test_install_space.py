@@ -221,7 +221,7 @@ def test_demo_launch_finds_the_can_and_stops_in_front_of_it(install_space, tmp_p
 def test_evaluate_runs_two_successful_trials(install_space, tmp_path):
     results = tmp_path / 'evaluate.json'
     result = install_space.run(['rosrun', PACKAGE, 'evaluate', '--trials', '2', '--json', results,
-                                '--log', tmp_path / 'evaluate_roslaunch.log'], EVALUATE_TIMEOUT_S)
+                                '--log-dir', tmp_path / 'evaluate_logs'], EVALUATE_TIMEOUT_S)
     assert result.returncode == 0, result.stdout[-3000:]
     summary = json.loads(results.read_text())['summary']
     assert summary['trials'] == 2 and summary['successes'] == 2, summary

@@ -1,9 +1,15 @@
-"""Shards cover the trials once, shard records merge back into one evaluation, and two runs of
-the same trials are compared trial by trial."""
+"""The trials of an evaluation collected as they finish, in any order: what is left to run (and
+to resume), the record in trial order written whole after every trial; and two runs of the same
+trials compared trial by trial."""
+import json
+import os
+
 import pytest
 
-from can_seeker.evaluation.batch import compare_runs, merge_records, parse_shard, shard_indices
-from can_seeker.evaluation.trials import TrialResult
+from can_seeker.evaluation.batch import TrialLedger, compare_runs, write_json_atomically
+from can_seeker.evaluation.trials import Criteria, TrialResult
+
+SETTINGS = {'trials': 5, 'seed': 3, 'world': 'empty', 'params': {}}
 
 
 def result(index, x=1.0, y=0.5, yaw=10.0, success=True):
@@ -11,40 +17,68 @@ def result(index, x=1.0, y=0.5, yaw=10.0, success=True):
                        1.0, 6.0, 2.0, success, x, y, yaw)
 
 
-def record(trials, **settings):
-    base = {'trials': 5, 'seed': 3, 'shard': [1, 1]}
-    base.update(settings)
-    return {'settings': base, 'trials': [trial.as_dict() for trial in trials]}
+def test_trials_finishing_in_any_order_are_recorded_in_trial_order():
+    ledger = TrialLedger(SETTINGS)
+    for index in (3, 0, 4):
+        ledger.add(result(index), Criteria())
+    assert [trial.index for trial in ledger.results()] == [0, 3, 4]
+    assert [trial['index'] for trial in ledger.record()['trials']] == [0, 3, 4]
+    assert ledger.missing() == [1, 2]
+    assert ledger.record()['summary']['trials'] == 3
 
 
-def test_parse_shard():
-    assert parse_shard('2/4') == (2, 4)
-    for bad in ('0/2', '3/2', '2', 'a/b', '1/2/3'):
-        with pytest.raises(ValueError):
-            parse_shard(bad)
-
-
-def test_shards_cover_every_trial_exactly_once():
-    covered = sorted(index for shard in range(1, 4) for index in shard_indices(10, (shard, 3)))
-    assert covered == list(range(10))
-    assert shard_indices(10, (1, 1)) == list(range(10))
-    assert shard_indices(2, (3, 3)) == []
-
-
-def test_merge_orders_trials_and_ignores_the_shard_setting():
-    settings, trials = merge_records([record([result(1), result(3)], shard=[2, 2]),
-                                      record([result(0), result(2), result(4)], shard=[1, 2])])
-    assert [trial.index for trial in trials] == [0, 1, 2, 3, 4]
-    assert settings == {'trials': 5, 'seed': 3}
-
-
-def test_merge_refuses_other_evaluations_and_repeated_trials():
-    with pytest.raises(ValueError, match='seed'):
-        merge_records([record([result(0)]), record([result(1)], seed=4)])
+def test_a_trial_is_recorded_once_and_by_one_set_of_criteria():
+    ledger = TrialLedger(SETTINGS, Criteria(), [result(0)])
     with pytest.raises(ValueError, match='trial 0'):
-        merge_records([record([result(0)]), record([result(0)], shard=[2, 2])])
-    with pytest.raises(ValueError):
-        merge_records([])
+        ledger.add(result(0))
+    with pytest.raises(ValueError, match='other criteria'):
+        ledger.add(result(1), Criteria(stop_distance_m=0.5))
+
+
+def test_a_record_resumes_with_only_its_missing_trials(tmp_path):
+    first = TrialLedger(SETTINGS)
+    for index in (1, 4):
+        first.add(result(index), Criteria(stop_distance_m=0.3))
+    path = str(tmp_path / 'evaluate.json')
+    write_json_atomically(path, first.record())
+    with open(path) as stored:
+        resumed = TrialLedger.from_record(json.load(stored), SETTINGS)
+    assert resumed.missing() == [0, 2, 3]
+    assert resumed.criteria == Criteria(stop_distance_m=0.3)
+    assert json.dumps(resumed.record()) == json.dumps(first.record())
+
+
+def test_a_resume_may_change_the_number_of_trials_only():
+    record = TrialLedger(SETTINGS, Criteria(), [result(0), result(3)]).record()
+    more = TrialLedger.from_record(record, dict(SETTINGS, trials=7))
+    assert more.missing() == [1, 2, 4, 5, 6]
+    fewer = TrialLedger.from_record(record, dict(SETTINGS, trials=2))
+    assert [trial.index for trial in fewer.results()] == [0] and fewer.missing() == [1]
+    with pytest.raises(ValueError, match='seed, world'):
+        TrialLedger.from_record(record, dict(SETTINGS, seed=4, world='room'))
+
+
+def test_the_record_is_replaced_whole_and_leaves_no_temporary_file(tmp_path):
+    path = tmp_path / 'evaluate.json'
+    write_json_atomically(str(path), {'trials': [1]})
+    write_json_atomically(str(path), {'trials': [1, 2]})
+    assert json.loads(path.read_text()) == {'trials': [1, 2]}
+    assert os.listdir(str(tmp_path)) == ['evaluate.json']
+    umask = os.umask(0o022)
+    try:
+        write_json_atomically(str(path), {'trials': []})
+    finally:
+        os.umask(umask)
+    assert path.stat().st_mode & 0o777 == 0o644
+
+
+def test_a_failed_write_keeps_the_previous_record(tmp_path):
+    path = tmp_path / 'evaluate.json'
+    write_json_atomically(str(path), {'trials': [1]})
+    with pytest.raises(TypeError):
+        write_json_atomically(str(path), {'trials': [object()]})
+    assert json.loads(path.read_text()) == {'trials': [1]}
+    assert os.listdir(str(tmp_path)) == ['evaluate.json']
 
 
 def test_identical_runs_are_repeatable():

@@ -9,7 +9,9 @@ import yaml
 from catkin_pkg.package import parse_package
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
-KEYS = yaml.safe_load((REPO / 'test' / 'data' / 'rosdep_keys.yaml').read_text())['keys']
+ROSDEP_KEYS = yaml.safe_load((REPO / 'test' / 'data' / 'rosdep_keys.yaml').read_text())
+KEYS = ROSDEP_KEYS['keys']
+WITHOUT_KEY = ROSDEP_KEYS['without_key']
 INSTALLER_FIELDS = {'apt', 'pip', 'packages', 'source'}
 PLATFORMS = {'focal': ('ubuntu', 'focal'), 'bookworm': ('debian', 'bookworm')}
 ROSPACK = rospkg.RosPack()
@@ -90,3 +92,18 @@ def test_release_rules_override_the_default():
     assert resolve(definition, 'debian', 'buster') is None
     assert resolve(definition, 'ubuntu', 'focal') == {'pip': ['pkg-pip']}
     assert resolve(definition, 'fedora', '39') is None
+
+
+def listed_lines(path):
+    return [line.strip() for line in (REPO / path).read_text().splitlines()
+            if line.strip() and not line.startswith('#')]
+
+
+@pytest.mark.parametrize('module', sorted(WITHOUT_KEY))
+def test_a_module_without_a_rosdep_key_comes_from_apt_and_pip_instead(module):
+    apt_name, pip_name = WITHOUT_KEY[module]['apt'], WITHOUT_KEY[module]['pip']
+    assert not {module, apt_name, pip_name} & set(dependency_names(REPO / 'package.xml'))
+    assert apt_name not in KEYS
+    assert apt_name in listed_lines('tools/apt-packages.txt')
+    assert [line for line in listed_lines('requirements.txt')
+            if line.startswith(pip_name + '==')]

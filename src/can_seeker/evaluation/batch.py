@@ -1,63 +1,102 @@
-"""Splitting an evaluation into shards, merging their results, and comparing two runs.
+"""The trials of one evaluation as they finish, in any order and on any machine: which are
+still missing (to resume), their record in trial order, written after every finished trial; and
+how two runs of the same trials compare.
 
 Trial i always uses seed + i, so any subset of the trials can run anywhere (another process, its
-own master, another machine) and the merged result equals one run of them all.
+own master, another machine) and the collected result equals one run of them all.
 """
+import json
 import math
-from typing import Dict, List, Sequence, Tuple
+import os
+import tempfile
+from typing import Dict, List, Optional, Sequence, Tuple
 
-from can_seeker.evaluation.trials import TrialResult
+from can_seeker.evaluation.trials import Criteria, TrialResult, summarise
 
-SHARD_INDEPENDENT = ('shard', 'jobs', 'repeat_check')
-"""Settings that may differ between the records of one evaluation."""
 REPEAT_POSITION_TOLERANCE_M = 0.001
 """A repeated trial must end within this of the first run's position (m)..."""
 REPEAT_YAW_TOLERANCE_DEG = 0.1
 """...and heading (deg), with the same outcome."""
+RESUMABLE_CHANGES = ('trials',)
+"""Settings a resumed evaluation may change: more (or fewer) trials of the same seeds."""
 
 
-def parse_shard(text: str) -> Tuple[int, int]:
-    """``'i/N'`` (1 <= i <= N) as (i, N); ValueError otherwise."""
-    try:
-        index_text, count_text = text.split('/')
-        index, count = int(index_text), int(count_text)
-    except ValueError:
-        raise ValueError('a shard is i/N, e.g. 2/4, got %r' % (text,))
-    if not 1 <= index <= count:
-        raise ValueError('shard %r: i must be in 1..N' % (text,))
-    return index, count
+class TrialLedger:
+    """The finished trials of one evaluation by index, the criteria they were judged by, and
+    their JSON record (``settings``, ``summary``, ``trials`` in index order)."""
 
+    def __init__(self, settings: dict, criteria: Optional[Criteria] = None,
+                 results: Sequence[TrialResult] = ()):
+        self.settings = dict(settings)
+        self.criteria = criteria
+        self.by_index: Dict[int, TrialResult] = {}
+        for result in results:
+            self.add(result)
 
-def shard_indices(trials: int, shard: Tuple[int, int]) -> List[int]:
-    """The trial indices of shard (i, N): every N-th trial from trial i - 1."""
-    index, count = shard
-    return list(range(index - 1, trials, count))
+    def add(self, result: TrialResult, criteria: Optional[Criteria] = None):
+        """Record a finished trial; ValueError if that trial is already recorded or was judged
+        by other criteria than the trials before it."""
+        if result.index in self.by_index:
+            raise ValueError('trial %d is already recorded' % result.index)
+        if criteria is not None:
+            if self.criteria is not None and criteria != self.criteria:
+                raise ValueError('trial %d was judged by other criteria (%s, not %s)'
+                                 % (result.index, criteria, self.criteria))
+            self.criteria = criteria
+        self.by_index[result.index] = result
 
+    def results(self) -> List[TrialResult]:
+        """The finished trials of this evaluation (index below ``settings['trials']``) in
+        index order."""
+        return [self.by_index[index] for index in sorted(self.by_index)
+                if index < self.settings['trials']]
 
-def merge_records(records: Sequence[dict]) -> Tuple[dict, List[TrialResult]]:
-    """(settings, trials sorted by index) of evaluate JSON records of one evaluation.
+    def missing(self) -> List[int]:
+        """The indices of the trials still to run, ascending."""
+        return [index for index in range(self.settings['trials'])
+                if index not in self.by_index]
 
-    ValueError when their settings differ (other than the shard) or a trial appears twice.
-    """
-    if not records:
-        raise ValueError('nothing to merge')
-    settings = {key: value for key, value in records[0]['settings'].items()
-                if key not in SHARD_INDEPENDENT}
-    trials: Dict[int, TrialResult] = {}
-    for record in records:
-        other = {key: value for key, value in record['settings'].items()
-                 if key not in SHARD_INDEPENDENT}
-        if other != settings:
-            changed = sorted(key for key in set(other) | set(settings)
-                             if other.get(key) != settings.get(key))
-            raise ValueError('the records come from different evaluations (%s differ)'
+    def summary(self) -> dict:
+        return summarise(self.results(), self.criteria or Criteria())
+
+    def record(self) -> dict:
+        """The JSON record: settings, summary and every finished trial in index order."""
+        return {'settings': self.settings, 'summary': self.summary(),
+                'trials': [result.as_dict() for result in self.results()]}
+
+    @classmethod
+    def from_record(cls, record: dict, settings: dict) -> 'TrialLedger':
+        """The finished trials of a JSON record, to resume the evaluation ``settings``
+        describes; ValueError when the record is of another evaluation (settings other than
+        :data:`RESUMABLE_CHANGES` differ)."""
+        changed = sorted(key for key in set(record['settings']) | set(settings)
+                         if key not in RESUMABLE_CHANGES
+                         and record['settings'].get(key) != settings.get(key))
+        if changed:
+            raise ValueError('the record is of another evaluation (%s differ)'
                              % ', '.join(changed))
-        for fields in record['trials']:
-            result = TrialResult(**fields)
-            if result.index in trials:
-                raise ValueError('trial %d appears in more than one record' % result.index)
-            trials[result.index] = result
-    return settings, [trials[index] for index in sorted(trials)]
+        return cls(settings, Criteria(**record['summary']['criteria']),
+                   [TrialResult(**fields) for fields in record['trials']])
+
+
+def write_json_atomically(path: str, record: dict):
+    """Write ``record`` as JSON to ``path`` through a temporary file in the same folder, renamed
+    over it: a reader (or a crash) sees the old or the new file whole, never a part."""
+    folder = os.path.dirname(os.path.abspath(path))
+    handle, temporary_path = tempfile.mkstemp(prefix='.%s.' % os.path.basename(path),
+                                              suffix='.tmp', dir=folder)
+    umask = os.umask(0)
+    os.umask(umask)
+    try:
+        os.chmod(temporary_path, 0o666 & ~umask)  # as open() would create it, not 0600
+        with os.fdopen(handle, 'w') as output:
+            json.dump(record, output, indent=2)
+            output.flush()
+            os.fsync(output.fileno())
+        os.replace(temporary_path, path)
+    except BaseException:
+        os.unlink(temporary_path)
+        raise
 
 
 def outcome(result: TrialResult) -> Tuple[bool, bool, bool]:

@@ -43,6 +43,11 @@ SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/new_world', '/sim/pause_
 POLL_S = 0.01
 SETTLE_S = 0.5
 """Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
+LAUNCH_GUARD = ('while kill -0 "$1" 2>/dev/null; do sleep 1; done; '
+                'kill -INT -"$2" 2>/dev/null && sleep 20 && kill -KILL -"$2" 2>/dev/null')
+"""sh script ``guard OWNER_PID LAUNCH_PGID``: once the owner process is gone (killed, so it
+could not stop its launch), stop the launch's process group as :meth:`LaunchedSystem.__exit__`
+would."""
 WARM_UP_S = 1.0
 """Sim time (s) the controller has to have been commanding before the first trial: by then
 every node has its TF and camera_info (a node without them yet falls back to its parameters,
@@ -70,8 +75,9 @@ class LaunchedSystem:
 
     A context manager: on entry ROS_MASTER_URI points at the new master (for this process and
     the launch) and its parameters are set, so ``rospy.init_node`` sees ``/use_sim_time``; on
-    exit the whole launch (its process group) is stopped. ``params`` (``/node/param`` ->
-    value) override any node parameter, also those demo.launch has no argument for.
+    exit the whole launch (its process group) is stopped; a guard process stops it too if
+    this process is killed first. ``params`` (``/node/param`` -> value) override any node
+    parameter, also those demo.launch has no argument for.
     """
 
     def __init__(self, launch_args, log_path, startup_timeout_s=60.0, params=None):
@@ -80,6 +86,7 @@ class LaunchedSystem:
         self.startup_timeout_s = startup_timeout_s
         self.params = dict(params or {})
         self.process = None
+        self.guard = None
         self.log = None
 
     def __enter__(self):
@@ -97,6 +104,8 @@ class LaunchedSystem:
         self.log = open(self.log_path, 'w')
         self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT,
                                         env=dict(os.environ), start_new_session=True)
+        self.guard = subprocess.Popen(['sh', '-c', LAUNCH_GUARD, 'launch_guard', str(os.getpid()),
+                                       str(self.process.pid)], start_new_session=True)
         deadline = time.monotonic() + self.startup_timeout_s
         master = rosgraph.Master('/closed_loop')
         while not (master.is_online() and master.hasParam('/use_sim_time')):
@@ -132,6 +141,9 @@ class LaunchedSystem:
             except subprocess.TimeoutExpired:
                 os.killpg(self.process.pid, signal.SIGKILL)
                 self.process.wait()
+        if self.guard is not None:
+            self.guard.kill()
+            self.guard.wait()
         if self.log is not None:
             self.log.close()
 

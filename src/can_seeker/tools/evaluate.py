@@ -1,19 +1,22 @@
 """evaluate: N closed-loop trials of the real nodes (sim, image_converter, can_stopper) under
 their own master, judged on the simulator's ground truth.
 
-The nodes start once (``demo.launch`` on a free port); between trials the sim and the controller
-are reset through their services. Each trial rebuilds the world from its seed (trial i uses
-seed + i, so ``--seed S+i --trials 1`` repeats it): in the empty world the can stands at a random
-bearing and distance, in a room (``--world room``) the obstacles and the can are drawn anew, in a
-world file the can is drawn unless the file places it; with ``--randomize-appearance`` the
-floor, wall and obstacle colours are drawn from the seed too. ``--scan-topics "/camera_scan
-/scan"`` lets can_stopper fuse the camera scan and the lidar. Prints a progress bar, then a
-summary table; ``--json FILE`` writes every trial and the summary. Exits 1 when a trial failed.
+The nodes start once per worker process (``demo.launch`` on a free port); between trials the sim
+and the controller are reset through their services. Each trial rebuilds the world from its seed
+(trial i uses seed + i, so ``--seed S+i --trials 1`` repeats it): in the empty world the can
+stands at a random bearing and distance, in a room (``--world room``) the obstacles and the can
+are drawn anew, in a world file the can is drawn unless the file places it; with
+``--randomize-appearance`` the floor, wall and obstacle colours are drawn from the seed too.
+``--scan-topics "/camera_scan /scan"`` lets can_stopper fuse the camera scan and the lidar.
+Prints a progress bar, then a summary table; ``--json FILE`` writes every trial and the summary,
+again after each finished trial, and ``--resume`` runs only the trials that file is missing.
+Exits 1 when a trial failed.
 
-Scale out: ``--jobs N`` runs N independent systems (each its own master on its own port) in
-parallel and merges their results; ``--shard i/N`` runs every N-th trial from trial i - 1 and
-``--merge a.json b.json ...`` merges shard records from anywhere. ``--repeat-check`` runs the
-trials twice and reports the largest per-trial difference (final pose, outcome).
+Scale out (``can_seeker.tools.engine``): every trial is a Dask task; ``--jobs N`` runs them on a
+local cluster of N worker processes, ``--cluster ADDRESS`` on a running Dask scheduler's
+workers; each worker process has a ROS system of its own (its own master on its own port). The
+results do not depend on how many workers ran them. ``--repeat-check`` runs the trials twice
+and reports the largest per-trial difference (final pose, outcome).
 
 Real senses: ``--realism realistic`` (or ``harsh``) gives the simulator a noisy, late camera,
 drifting wheel odometry and imperfect motors; ``--param NODE/PARAM=VALUE`` sets any node
@@ -25,27 +28,21 @@ is always the simulator's ground truth, never the robot's odometry.
 import argparse
 import json
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
-import time
 
 import rospy
-from tqdm import tqdm
 
-from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
+from can_seeker.tools.engine import Engine, SystemSpec, run_missing
 from can_seeker.params import defaults
 from can_seeker.control.controller import PARAMS as CONTROL_PARAMS
 from can_seeker.sim.realism import REALISM_PRESETS
 from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
 from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
-                                         compare_runs, merge_records, parse_shard,
-                                         shard_indices)
+                                         TrialLedger, compare_runs, write_json_atomically)
 from can_seeker.evaluation.sweep import (override_arg, parse_sweep, plot_sweep,
                                          setting_label, sweep_grid, sweep_table)
-from can_seeker.evaluation.trials import Criteria, summarise, summary_table
+from can_seeker.evaluation.trials import Criteria, summary_table
 
 SIM = defaults(SIM_PARAMS)
 CONTROL = defaults(CONTROL_PARAMS)
@@ -114,22 +111,33 @@ def parse_args(argv):
                         help='let the simulator run without waiting for each frame\'s '
                         'detection and command (results then depend on the machine\'s load)')
     parser.add_argument('--jobs', type=int, default=1,
-                        help='independent systems run in parallel, each with its own master')
-    parser.add_argument('--shard', type=_shard, default=(1, 1), metavar='i/N',
-                        help='run only every N-th trial, from trial i - 1')
-    parser.add_argument('--merge', nargs='+', metavar='JSON',
-                        help='merge the --json records of shards (no trials are run)')
+                        help='worker processes of the local Dask cluster, each running trials '
+                        'on a ROS system of its own')
+    parser.add_argument('--cluster', metavar='ADDRESS',
+                        help='run the trials on the workers of this Dask scheduler (e.g. '
+                        'tcp://host:8786) instead of a local cluster')
     parser.add_argument('--repeat-check', action='store_true',
                         help='run the trials twice and report the largest per-trial difference; '
                         'exit 1 unless outcomes match and final poses agree within %g mm and '
                         '%g deg' % (1000.0 * REPEAT_POSITION_TOLERANCE_M,
                                     REPEAT_YAW_TOLERANCE_DEG))
-    parser.add_argument('--json', metavar='FILE', help='write the results as JSON')
-    parser.add_argument('--log', metavar='FILE',
-                        help='roslaunch output (default: a file in the temp directory)')
+    parser.add_argument('--json', metavar='FILE',
+                        help='write the results as JSON, again after every finished trial')
+    parser.add_argument('--resume', action='store_true',
+                        help='run only the trials missing from --json FILE (same settings; '
+                        '--trials may grow)')
+    parser.add_argument('--log-dir', metavar='DIR',
+                        help='folder for the roslaunch output of each worker\'s system; '
+                        'None: the worker\'s temp folder')
     args = parser.parse_args(argv)
+    if args.cluster and args.jobs != 1:
+        parser.error('--jobs sizes the local cluster; --cluster uses the workers it has')
     if args.jobs < 1:
         parser.error('--jobs must be at least 1')
+    if args.resume and not args.json:
+        parser.error('--resume needs --json FILE')
+    if args.resume and (args.sweep or args.repeat_check):
+        parser.error('--resume continues one evaluation, not a --sweep or --repeat-check')
     return args
 
 
@@ -145,13 +153,6 @@ def _room_size(text):
 def _sweep(text):
     try:
         return parse_sweep(text)
-    except ValueError as error:
-        raise argparse.ArgumentTypeError(str(error))
-
-
-def _shard(text):
-    try:
-        return parse_shard(text)
     except ValueError as error:
         raise argparse.ArgumentTypeError(str(error))
 
@@ -178,111 +179,36 @@ def settings(args):
     """The options that define the evaluation, for the JSON record."""
     record = {name: getattr(args, name) for name in (
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
-        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep', 'shard',
+        'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep',
         'randomize_appearance') + WORLD_OPTIONS + CONTROL_OPTIONS}
     record['params'] = dict(args.param)
     return record
 
 
-def run_trial(runner, args, index):
-    """Trial ``index`` in the world of seed + index; failures are reported at once."""
-    can_xy, visible = runner.new_world(args.seed + index)
-    result = runner.run(index, can_xy, visible)
-    if not result.success:
-        tqdm.write('trial %d (seed %d) failed: can at (%.2f, %.2f)%s, stopped=%s, gap %.3f m, '
-                   'bearing %.2f deg, contact=%s'
-                   % (index, args.seed + index, result.can_x_m, result.can_y_m,
-                      '' if visible else ' (not visible from the start)', result.stopped,
-                      result.gap_m, result.bearing_deg, result.contact_text()), file=sys.stderr)
-    return result
+def system_spec(args, run=0):
+    """The ROS system the trials of ``args`` run on (``run`` tells a repeat check's runs
+    apart: each gets fresh systems)."""
+    log_dir = os.path.abspath(args.log_dir) if args.log_dir else None
+    return SystemSpec.of(launch_args(args), dict(args.param), args.time_limit, run, log_dir)
 
 
-def run(args):
-    """Start the nodes, run this shard's trials (Ctrl-C ends early); the results and the
-    criteria."""
-    log_path = args.log or os.path.join(tempfile.gettempdir(),
-                                        'can_seeker_evaluate_%d.log' % os.getpid())
-    results = []
-    with LaunchedSystem(launch_args(args), log_path, params=dict(args.param)) as system:
-        rospy.init_node('evaluate', disable_signals=True)
-        system.wait_for_services()
-        criteria = Criteria(stop_distance_m=rospy.get_param('/can_stopper/stop_distance'),
-                            time_limit_s=args.time_limit)
-        runner = TrialRunner(criteria)
-        bar = tqdm(shard_indices(args.trials, args.shard), desc='trials', unit='trial',
-                   file=sys.stderr)
-        try:
-            for index in bar:
-                results.append(run_trial(runner, args, index))
-                bar.set_postfix(ok='%d/%d' % (sum(r.success for r in results), len(results)))
-        except KeyboardInterrupt:
-            tqdm.write('evaluate: interrupted; summarising the %d finished trials' % len(results),
-                       file=sys.stderr)
-        rospy.signal_shutdown('evaluation done')
-    return results, criteria
+def new_ledger(args):
+    """The ledger of this evaluation: empty, or with ``--resume`` the trials the ``--json``
+    record holds."""
+    if not (args.resume and os.path.exists(args.json)):
+        return TrialLedger(settings(args))
+    with open(args.json) as record:
+        ledger = TrialLedger.from_record(json.load(record), settings(args))
+    print('evaluate: resuming %s: %d trials done, %d to run'
+          % (args.json, len(ledger.results()), len(ledger.missing())), file=sys.stderr)
+    return ledger
 
 
-def child_command(args, shard, json_path):
-    """The command line of one shard of a ``--jobs`` run."""
-    command = [sys.executable, os.path.abspath(sys.argv[0])]
-    for name in ('trials', 'seed', 'min_distance', 'max_distance', 'width', 'height',
-                 'camera_height', 'camera_pitch', 'can_rgba', 'time_limit',
-                 'real_time_factor') + WORLD_OPTIONS + CONTROL_OPTIONS:
-        command += ['--' + name.replace('_', '-'), str(getattr(args, name))]
-    for name, value in args.param:
-        command += ['--param', '%s=%s' % (name.lstrip('/'), value)]
-    if not args.lockstep:
-        command.append('--no-lockstep')
-    if args.randomize_appearance:
-        command.append('--randomize-appearance')
-    return command + ['--shard', '%d/%d' % shard, '--json', json_path]
-
-
-def run_jobs(args):
-    """Run ``args.jobs`` shards as separate processes, each with its own system; merged
-    results and criteria."""
-    workdir = tempfile.mkdtemp(prefix='can_seeker_evaluate_')
-    children = []
-    for index in range(1, args.jobs + 1):
-        json_path = os.path.join(workdir, 'shard%d.json' % index)
-        log = open(os.path.join(workdir, 'shard%d.log' % index), 'w')
-        children.append((json_path, log, subprocess.Popen(
-            child_command(args, (index, args.jobs), json_path), stdout=log,
-            stderr=subprocess.STDOUT)))
-        time.sleep(1.0)  # masters on distinct free ports
-    print('evaluate: %d jobs running (logs in %s until they finish)' % (args.jobs, workdir),
-          file=sys.stderr)
-    records = []
-    for json_path, log, child in children:
-        child.wait()
-        log.close()
-        if not os.path.exists(json_path):
-            raise RuntimeError('job %s wrote no results; see %s' % (json_path, log.name))
-        with open(json_path) as record:
-            records.append(json.load(record))
-    shutil.rmtree(workdir)
-    return merged(records)
-
-
-def merged(records):
-    """(results, criteria, settings) of evaluate JSON records of one evaluation."""
-    merged_settings, results = merge_records(records)
-    return results, Criteria(**records[0]['summary']['criteria']), merged_settings
-
-
-def evaluate(args):
-    """The results, criteria and settings of one evaluation: run here, in jobs, or merged."""
-    if args.merge:
-        records = []
-        for path in args.merge:
-            with open(path) as record:
-                records.append(json.load(record))
-        return merged(records)
-    if args.jobs > 1 or args.repeat_check or args.sweep:
-        # rospy runs one node per process, and it is shut down after a run: each run of a
-        # repeat check gets processes of its own
-        return run_jobs(args)
-    return run(args) + (settings(args),)
+def evaluate(args, engine, ledger, run=0, json_path=None):
+    """Run the trials ``ledger`` is missing on the engine, writing its record to ``json_path``
+    after each; the indices that did not run."""
+    return run_missing(engine, system_spec(args, run), ledger, json_path,
+                       'trials' if run == 0 else 'trials, run %d' % (run + 1))
 
 
 def report_repeat(first, second):
@@ -310,20 +236,20 @@ def _number(value):
     return 'n/a' if value is None else '%.4f' % value
 
 
-def run_sweep(args):
-    """Evaluate every setting of the sweep grid on the same seeds; write the table, the JSON
-    record and the plot; exit 0 once every setting ran."""
+def run_sweep(args, engine):
+    """Evaluate every setting of the sweep grid on the same seeds (each on fresh systems);
+    write the table, the JSON record and the plot; exit 0 once every setting ran."""
     os.makedirs(args.sweep_output, exist_ok=True)
     rows, records = [], []
     base_params = list(args.param)
     for setting in sweep_grid(args.sweep):
         args.param = base_params + sorted(setting.items())
         print('evaluate: sweep setting %s' % setting_label(setting), file=sys.stderr)
-        results, criteria, record_settings = evaluate(args)
-        summary = summarise(results, criteria)
-        rows.append((setting, summary))
-        records.append({'setting': setting, 'settings': record_settings, 'summary': summary,
-                        'trials': [result.as_dict() for result in results]})
+        ledger = TrialLedger(settings(args))
+        evaluate(args, engine, ledger)
+        record = ledger.record()
+        rows.append((setting, record['summary']))
+        records.append(dict(record, setting=setting))
     args.param = base_params
     table = sweep_table(rows)
     title = ('%d trials per setting from seed %d, %s world, realism %s'
@@ -335,23 +261,34 @@ def run_sweep(args):
     plot_sweep(rows, os.path.join(args.sweep_output, 'sweep.png'), title)
     print('\nevaluate sweep: %s\n%s\nwritten to %s (sweep.md, sweep.json, sweep.png)'
           % (title, table, args.sweep_output))
-    sys.exit(0)
 
 
 def main():
     args = parse_args(rospy.myargv()[1:])
     if args.sweep:
-        run_sweep(args)
+        with Engine(args.jobs, args.cluster) as engine:
+            run_sweep(args, engine)
+        sys.exit(0)
     try:
-        results, criteria, record_settings = evaluate(args)
-        repeat = None
-        if args.repeat_check and not args.merge:
-            second, _, _ = evaluate(args)
-            repeat = report_repeat(results, second)
+        ledger = new_ledger(args)
+    except ValueError as error:
+        print('evaluate: cannot resume %s: %s' % (args.json, error), file=sys.stderr)
+        sys.exit(2)
+    repeat, not_run, interrupted = None, [], False
+    try:
+        if ledger.missing():
+            with Engine(args.jobs, args.cluster) as engine:
+                not_run = evaluate(args, engine, ledger, json_path=args.json)
+                if args.repeat_check:
+                    second = TrialLedger(settings(args))
+                    not_run += evaluate(args, engine, second, run=1)
+                    repeat = report_repeat(ledger.results(), second.results())
     except KeyboardInterrupt:
-        print('evaluate: interrupted while starting the nodes', file=sys.stderr)
-        sys.exit(130)
-    summary = summarise(results, criteria)
+        interrupted = True
+        print('evaluate: interrupted; summarising the %d finished trials'
+              % len(ledger.results()), file=sys.stderr)
+    results, record_settings = ledger.results(), ledger.settings
+    summary = ledger.summary()
     print('\nevaluate: %d trials, %s world%s, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, '
           'can %s %s, scan %s, realism %s' % (len(results), _world_text(record_settings),
                       ' with colours drawn per trial'
@@ -364,12 +301,12 @@ def main():
                       record_settings.get('realism', 'ideal')))
     print(summary_table(summary))
     if args.json:
-        record = {'settings': record_settings, 'summary': summary,
-                  'trials': [result.as_dict() for result in results]}
+        record = ledger.record()
         if repeat is not None:
             record['repeat_check'] = repeat
-        with open(args.json, 'w') as output:
-            json.dump(record, output, indent=2)
+        write_json_atomically(args.json, record)
         print('results written to %s' % args.json)
-    ok = bool(results) and summary['successes'] == summary['trials']
+    if interrupted:
+        sys.exit(130)
+    ok = bool(results) and not not_run and summary['successes'] == summary['trials']
     sys.exit(0 if ok and (repeat is None or repeat['repeatable']) else 1)

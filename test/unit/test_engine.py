@@ -1,0 +1,23 @@
+"""What identifies a worker's ROS system: trials with equal launch arguments, parameters, time
+limit and run share systems; any difference needs systems of its own; where logs go does not
+matter."""
+from can_seeker.tools.engine import SystemSpec
+
+LAUNCH_ARGS = {'world': 'room', 'lockstep': 'true', 'width': 320}
+
+
+def test_equal_settings_in_any_order_are_one_system():
+    first = SystemSpec.of(LAUNCH_ARGS, {'/sim/seed': 1, '/can_stopper/stop_distance': 0.25}, 90)
+    second = SystemSpec.of(dict(reversed(list(LAUNCH_ARGS.items()))),
+                           {'/can_stopper/stop_distance': '0.25', '/sim/seed': '1'}, 90.0,
+                           log_dir='/tmp/logs')
+    assert first.key() == second.key()
+
+
+def test_another_setting_or_run_is_another_system():
+    base = SystemSpec.of(LAUNCH_ARGS, {}, 90.0)
+    others = [SystemSpec.of(dict(LAUNCH_ARGS, width=640), {}, 90.0),
+              SystemSpec.of(LAUNCH_ARGS, {'/sim/camera_read_noise': 4}, 90.0),
+              SystemSpec.of(LAUNCH_ARGS, {}, 60.0),
+              SystemSpec.of(LAUNCH_ARGS, {}, 90.0, run=1)]
+    assert len({spec.key() for spec in others} | {base.key()}) == 5
