@@ -38,7 +38,8 @@ from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 
 WORKER_LOSSES_PER_TRIAL = 3
 """How many worker processes a trial may lose (killed with it, or its system failing) before
-it counts as failed (the scheduler's ``allowed-failures``)."""
+it counts as failed: the local cluster's ``allowed-failures`` (a running scheduler has its own,
+3 unless configured otherwise)."""
 SYSTEM_FAILED_EXIT_CODE = 3
 """Exit status of a worker process that left because its ROS system failed."""
 RESTART_TIMEOUT_S = 120.0
