@@ -56,7 +56,7 @@ FLOOR_PARAMS = (
           'reference area is more than this fraction obstacle pixels (1)', 0.0, 1.0),
     Param('min_obstacle_area', 0.001, 'obstacle regions smaller than this fraction of the image '
           'area are ignored as noise (1)', 0.0, 1.0),
-    Param('min_edge_contrast', 3.0, 'obstacle regions whose outline (away from the image '
+    Param('min_edge_contrast', 1.5, 'obstacle regions whose outline (away from the image '
           'border) has a mean colour gradient below this are floor shading (vignetting, light '
           'fall-off), not objects (grey levels per pixel, after a 5x5 Gaussian blur; 0 = keep '
           'every region)', 0.0, 255.0),
@@ -74,7 +74,7 @@ class FloorSettings:
     reference_height: float = 0.2
     suspect_fraction: float = 0.3
     min_obstacle_area: float = 0.001
-    min_edge_contrast: float = 3.0
+    min_edge_contrast: float = 1.5
 
     @classmethod
     def from_values(cls, values):
