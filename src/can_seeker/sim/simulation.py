@@ -446,10 +446,12 @@ class Simulation:
         """Robot at the start pose at rest, can upright at ``can_xy`` (odom, m) or, when None,
         at its last placement; (success, why). A refused placement leaves the can at its last
         placement."""
-        self.reset()
+        self.reset_robot()
+        self.world.place_can(*self.world.can_home)
         if can_xy is None:
-            return True, 'robot at the start, can at (%.3f, %.3f)' % self.world.can_home
-        placed = self.place_can(*can_xy)
+            placed = True, 'robot at the start, can at (%.3f, %.3f)' % self.world.can_home
+        else:
+            placed = self.place_can(*can_xy)
         self._new_trial()
         return placed
 
