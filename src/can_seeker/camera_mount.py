@@ -1,11 +1,14 @@
 """Where the camera sits on the robot: base_link -> camera_link -> camera_optical_frame.
 
 camera_link is REP-103 (x forward, z up) pitched down by the mount pitch; camera_optical_frame
-is its optical frame (z forward, x right, y down). The URDF holds the default mount.
+is its optical frame (z forward, x right, y down). The URDF holds the default mount;
+:mod:`can_seeker.robot_model` applies another one.
 """
 import math
 from dataclasses import dataclass
-from typing import Tuple
+from typing import Any, Callable, Tuple
+
+from can_seeker.params import Param, read_params
 
 CAMERA_FORWARD_M = 0.12
 """Distance of camera_link ahead of base_link (m)."""
@@ -32,3 +35,19 @@ class CameraMount:
         """camera_link orientation in base_link: a positive rotation about y tilts x downward."""
         half_rad = math.radians(self.pitch_deg) / 2.0
         return (0.0, math.sin(half_rad), 0.0, math.cos(half_rad))
+
+
+MOUNT_PARAMS = (
+    Param('camera_height', 0.25, 'height of camera_link above the floor (m)', 0.1, 1.5),
+    Param('camera_pitch_deg', 25.0, 'camera pitch below the horizon (deg, positive down)',
+          -30.0, 80.0),
+)
+"""The simulator's mount parameters; robot_description reads them the same way."""
+
+
+def mount_from_params(get_param: Callable[[str, Any], Any],
+                      warn: Callable[[str], None]) -> CameraMount:
+    """The mount from ``~camera_height`` and ``~camera_pitch_deg`` as the simulator reads them:
+    an invalid value is reported through ``warn`` and replaced by its default."""
+    config = read_params(MOUNT_PARAMS, get_param, warn)
+    return CameraMount(config.camera_height, config.camera_pitch_deg)

@@ -16,7 +16,7 @@ import numpy as np
 import yaml
 
 from can_seeker.camera_geometry import camera_pose_from_mount
-from can_seeker.camera_mount import CameraMount
+from can_seeker.camera_mount import MOUNT_PARAMS, CameraMount
 from can_seeker.sim.drive import CommandWatchdog, TwistLimiter
 from can_seeker.params import Param
 from can_seeker.sim.appearance import random_appearance
@@ -48,9 +48,7 @@ PARAMS = (
     Param('fov_deg', 45.0, 'vertical field of view (deg)', 10.0, 120.0),
     Param('encoding', 'bgr8', 'image encoding of /camera/image_raw', choices=('bgr8', 'rgb8')),
     Param('camera_rate', 15.0, 'camera frame rate (Hz, sim time)', 0.1, 240.0),
-    Param('camera_height', 0.25, 'height of camera_link above the floor (m)', 0.1, 1.5),
-    Param('camera_pitch_deg', 25.0, 'camera pitch below the horizon (deg, positive down)',
-          -30.0, 80.0),
+    *MOUNT_PARAMS,
     Param('physics_rate', 240.0, 'physics steps per second of sim time (Hz); /clock ticks at '
           'every step', 60.0, 2000.0),
     Param('state_rate', 50.0, 'rate of /odom, TF odom->base_link, /sim/can_pose and /sim/contact '

@@ -24,6 +24,7 @@ from pybullet_utils.bullet_client import BulletClient
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_matrix, \
     yaw_from_quaternion
 from can_seeker.camera_mount import CameraMount
+from can_seeker.robot_model import robot_urdf
 from can_seeker.sim import can_texture
 from can_seeker.sim.drive import wheel_speeds
 from can_seeker.sim.lidar import LidarSpec
@@ -77,7 +78,8 @@ def checker_floor_obj(mtl_name: str) -> str:
 
 
 def package_urdf_path() -> str:
-    """The robot URDF of the installed can_seeker package (also its robot_description)."""
+    """The robot URDF of the installed can_seeker package, at the default camera mount (the
+    simulator and robot_description apply the actual one)."""
     return os.path.join(rospkg.RosPack().get_path('can_seeker'), 'urdf', 'can_seeker_robot.urdf')
 
 
@@ -129,8 +131,8 @@ def rgba_to_image(rgba: np.ndarray, encoding: str) -> np.ndarray:
 
 
 class World:
-    """Floor, walls and obstacles of a :class:`Scene`, robot (from ``urdf_path``) and can;
-    stepped at ``physics_rate_hz``.
+    """Floor, walls and obstacles of a :class:`Scene`, robot (``urdf_path`` with the camera's
+    mount applied, see :mod:`can_seeker.robot_model`) and can; stepped at ``physics_rate_hz``.
 
     ``renderer`` is 'auto' (EGL, TinyRenderer fallback), 'egl' (RuntimeError if unusable) or
     'tiny'. ``gui`` opens the pybullet GUI (needs a display); it renders with its own OpenGL.
@@ -171,7 +173,7 @@ class World:
         client.setPhysicsEngineParameter(deterministicOverlappingPairs=1)
         self._floor = None
         self._solids = {}
-        self._robot = client.loadURDF(urdf_path, useFixedBase=False)
+        self._robot = client.loadURDF(self._mounted_urdf(urdf_path), useFixedBase=False)
         self._wheel_joints = self._joint_indices(('left_wheel_joint', 'right_wheel_joint'))
         dynamics = client.getDynamicsInfo(self._robot, -1)
         self._base_in_inertial = client.invertTransform(dynamics[3], dynamics[4])
@@ -200,6 +202,16 @@ class World:
                         for solid in scene.solids}
         self.scene = scene
         self.place_can(*(scene.can_xy if scene.can_xy is not None else self._can_home))
+
+    def _mounted_urdf(self, urdf_path: str) -> str:
+        """The robot file ``urdf_path`` with this world's camera mount applied (the model
+        robot_description holds for the same mount), written beside the textures."""
+        with open(urdf_path) as template:
+            urdf = robot_urdf(template.read(), self.camera.mount)
+        path = os.path.join(self._texture_dir, 'robot.urdf')
+        with open(path, 'w') as mounted:
+            mounted.write(urdf)
+        return path
 
     def _create_floor(self, rgba: Optional[Sequence[float]],
                       checker_rgba: Optional[Sequence[float]] = None) -> int:

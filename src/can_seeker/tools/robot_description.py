@@ -1,0 +1,34 @@
+"""robot_description: the robot's URDF for a camera mount, on standard output.
+
+``rosrun can_seeker robot_description --camera-height 0.3 --camera-pitch-deg 30`` prints
+``urdf/can_seeker_robot.urdf`` with that mount applied (:mod:`can_seeker.robot_model`), the model
+the simulator loads for the same ``~camera_height`` and ``~camera_pitch_deg``. Invalid values are
+replaced by their defaults with a warning on standard error, as the simulator does. Launch files
+set the parameter with it: ``<param name="robot_description" command="...">``.
+"""
+import argparse
+import os
+import sys
+
+from can_seeker.camera_mount import MOUNT_PARAMS, mount_from_params
+from can_seeker.robot_model import robot_urdf
+
+
+def package_template() -> str:
+    import rospkg  # only when no --template is given: finding the package crawls ROS_PACKAGE_PATH
+    return os.path.join(rospkg.RosPack().get_path('can_seeker'), 'urdf', 'can_seeker_robot.urdf')
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    for spec in MOUNT_PARAMS:
+        parser.add_argument('--' + spec.name.replace('_', '-'), default=spec.default,
+                            help='%s; default %s' % (spec.description, spec.default))
+    parser.add_argument('--template', help="the robot's URDF at the default mount; default: "
+                        'urdf/can_seeker_robot.urdf of the can_seeker package')
+    args = parser.parse_args(argv)
+    values = vars(args)
+    mount = mount_from_params(lambda name, default: values.get(name.lstrip('~'), default),
+                              lambda text: print('robot_description: ' + text, file=sys.stderr))
+    with open(args.template or package_template()) as template:
+        sys.stdout.write(robot_urdf(template.read(), mount))
