@@ -2,7 +2,7 @@
 message, and summaries at the levels of diagnostic_msgs/DiagnosticStatus.
 
 Pure: the nodes feed :class:`InputMonitor` from their callbacks and publish every
-:class:`Health` with diagnostic_updater (``can_seeker.nodes.diagnostics``).
+:class:`Health` with diagnostic_updater (``can_seeker.ros.diagnostics``).
 """
 import collections
 import threading

@@ -8,7 +8,7 @@ import rospy
 from sensor_msgs.msg import Image
 from std_msgs.msg import Header
 
-from can_seeker.nodes.image_converter_node import image_msg
+from can_seeker.ros.messages import image_msg
 
 
 def wire_bytes(msg):

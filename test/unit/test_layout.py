@@ -1,21 +1,38 @@
-"""The package layout: pure subpackages never import ROS, and every folder is an installable package."""
+"""The package layout: pure subpackages never import ROS (the ROS edge is ``ros/``, used by the
+nodes and tools), no node imports another node, the simulator does not import the controller,
+and every folder is an installable package."""
 import ast
 import pathlib
 
 PACKAGE = pathlib.Path(__file__).resolve().parents[2] / 'src' / 'can_seeker'
-ROS_GLUE = {'nodes', 'tools'}
+ROS_GLUE = {'nodes', 'tools', 'ros'}
 ROS_MODULES = {'rospy', 'rosbag', 'rosgraph', 'roslaunch', 'rostest', 'tf2_ros', 'cv_bridge',
                'dynamic_reconfigure', 'sensor_msgs', 'geometry_msgs', 'std_msgs', 'nav_msgs',
-               'diagnostic_updater', 'diagnostic_msgs'}
+               'diagnostic_updater', 'diagnostic_msgs', 'visualization_msgs', 'rospkg'}
 
 
-def imported_top_levels(path):
+def imported_modules(path):
     tree = ast.parse(path.read_text(), str(path))
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
-            yield from (alias.name.split('.')[0] for alias in node.names)
+            yield from (alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-            yield node.module.split('.')[0]
+            yield node.module
+
+
+def imported_top_levels(path):
+    return (name.split('.')[0] for name in imported_modules(path))
+
+
+def subpackage_imports(folder, prefix):
+    """{module file: the can_seeker modules starting with ``prefix`` it imports} of every
+    module in ``folder`` that imports any."""
+    found = {}
+    for path in sorted((PACKAGE / folder).rglob('*.py')):
+        hits = sorted(name for name in imported_modules(path) if name.startswith(prefix))
+        if hits:
+            found[str(path.relative_to(PACKAGE))] = hits
+    return found
 
 
 def test_pure_modules_import_no_ros():
@@ -31,3 +48,13 @@ def test_every_source_folder_is_a_package():
     assert {f for f in folders if not (f / '__init__.py').exists()} == set()
     assert {'sim', 'vision', 'control', 'evaluation', 'nodes', 'tools'} <= {
         f.name for f in folders}
+
+
+def test_no_node_imports_another_node():
+    """Shared ROS code lives in ros/; a node module is wiring of its own."""
+    assert subpackage_imports('nodes', 'can_seeker.nodes') == {}
+
+
+def test_the_simulator_does_not_import_the_controller():
+    assert subpackage_imports('sim', 'can_seeker.control') == {}
+

@@ -28,7 +28,7 @@ def launch_nodes(script_name):
     """(launch file, <node> element, {arg name: <arg> element}) for each launch of that script."""
     for launch in sorted((ROOT / 'launch').glob('*.launch')):
         root = ET.parse(launch).getroot()
-        args = {arg.get('name'): arg for arg in root.iter('arg')}
+        args = {arg.get('name'): arg for arg in root.findall('arg')}  # not an <include>'s
         for node in root.iter('node'):
             if node.get('pkg') == 'can_seeker' and node.get('type') == script_name:
                 yield launch.name, node, args

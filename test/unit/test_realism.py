@@ -13,7 +13,8 @@ from can_seeker.sim.realism import (PRESETS, REALISM_PARAMS, Actuation, CameraMo
                                     distortion_maps, kelvin_rgb, noisy_ranges, realism_spec,
                                     spec_from_config, trial_key)
 from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_config
-from can_seeker.sim.world import World, package_urdf_path
+from can_seeker.ros.paths import urdf_path
+from can_seeker.sim.world import World
 
 INTRINSICS = intrinsics_from_vertical_fov(320, 240, 45.0)
 SEPARATION_M = 0.235
@@ -245,7 +246,7 @@ def config_with(**overrides):
 def test_simulation_publishes_late_frames_with_their_capture_stamp_and_drifting_odometry():
     config = config_with(width=64, height=48, renderer='tiny', realism='realistic',
                          camera_latency_s=0.05, camera_drop_rate=0.0)
-    with World(package_urdf_path(), camera_spec(config), renderer='tiny',
+    with World(urdf_path(), camera_spec(config), renderer='tiny',
                scene=config.scene) as world:
         simulation = Simulation.from_config(world, config)
         simulation.reset_trial((1.5, 0.0))

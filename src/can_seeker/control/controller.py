@@ -46,6 +46,7 @@ from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
 from can_seeker.camera_geometry import CameraPose
 import numpy as np
 
+from can_seeker.frames import BASE_FRAME, ODOM_FRAME
 from can_seeker.health import ERROR, OK, WARN, Health
 from can_seeker.params import Param
 from can_seeker.control import avoidance
@@ -121,11 +122,13 @@ PARAMS = (
     Param('behaviour', 'seek',
           'seek: search, explore, approach the can and stop; wander: drive around and turn '
           'away from obstacles, no can', choices=('seek', 'wander')),
-    Param('scan_topics', '/camera_scan',
+    Param('scan_topics', 'camera_scan',
           'sensor_msgs/LaserScan topics of obstacles, separated by spaces (camera scan, lidar, '
           'both: what any of them sees is an obstacle; any frame in TF); empty: no obstacle '
           'sensing, no exploration'),
-    Param('odom_topic', '/odom', 'nav_msgs/Odometry of the robot in the odom frame'),
+    Param('odom_topic', 'odom', 'nav_msgs/Odometry of the robot in ~odom_frame'),
+    BASE_FRAME,
+    ODOM_FRAME,
     Param('scan_timeout', 0.5, 'no scan for this long: no driving forward or back, only '
           'turning (s)', 0.05, 10.0, safer='lower'),
     Param('odom_timeout', 0.5, 'no odometry for this long: no exploring or path driving (s)',

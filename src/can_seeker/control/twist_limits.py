@@ -9,6 +9,8 @@ import math
 from dataclasses import astuple, dataclass
 from typing import Sequence, Tuple
 
+from can_seeker.ramp import clamp, step_toward  # noqa: F401 (the controller's API too)
+
 ZERO = (0.0, 0.0)
 
 
@@ -28,13 +30,6 @@ class TwistLimits:
     angular_accel: float
 
 
-def clamp(value: float, low: float, high: float) -> float:
-    """``value`` limited to [low, high]; ValueError for a NaN, which has no place in it."""
-    if math.isnan(value) or math.isnan(low) or math.isnan(high):
-        raise ValueError('cannot clamp %r to [%r, %r]' % (value, low, high))
-    return max(low, min(high, value))
-
-
 def require_finite(command: Tuple[float, float], what: str = 'command') -> Tuple[float, float]:
     """``command`` unchanged; ValueError naming ``what`` when a part of it is not finite."""
     if not all_finite(command):
@@ -45,11 +40,6 @@ def require_finite(command: Tuple[float, float], what: str = 'command') -> Tuple
 def all_finite(values: Sequence[float]) -> bool:
     """True when no value is NaN or infinite."""
     return all(math.isfinite(value) for value in values)
-
-
-def step_toward(current: float, target: float, max_step: float) -> float:
-    """Move from ``current`` toward ``target`` by at most ``max_step``."""
-    return current + clamp(target - current, -max_step, max_step)
 
 
 def limit_twist(previous: Tuple[float, float], desired: Tuple[float, float], dt_s: float,

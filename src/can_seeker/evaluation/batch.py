@@ -11,7 +11,7 @@ import os
 import tempfile
 from typing import Dict, List, Optional, Sequence, Tuple
 
-from can_seeker.evaluation.trials import Criteria, TrialResult, summarise
+from can_seeker.evaluation.trials import Criteria, TrialResult, json_ready, summarise
 
 REPEAT_POSITION_TOLERANCE_M = 0.001
 """A repeated trial must end within this of the first run's position (m)..."""
@@ -61,8 +61,8 @@ class TrialLedger:
 
     def record(self) -> dict:
         """The JSON record: settings, summary and every finished trial in index order."""
-        return {'settings': self.settings, 'summary': self.summary(),
-                'trials': [result.as_dict() for result in self.results()]}
+        return json_ready({'settings': self.settings, 'summary': self.summary(),
+                           'trials': [result.as_dict() for result in self.results()]})
 
     @classmethod
     def from_record(cls, record: dict, settings: dict) -> 'TrialLedger':
@@ -76,7 +76,7 @@ class TrialLedger:
             raise ValueError('the record is of another evaluation (%s differ)'
                              % ', '.join(changed))
         return cls(settings, Criteria(**record['summary']['criteria']),
-                   [TrialResult(**fields) for fields in record['trials']])
+                   [TrialResult.from_dict(fields) for fields in record['trials']])
 
 
 def write_json_atomically(path: str, record: dict):
@@ -90,7 +90,7 @@ def write_json_atomically(path: str, record: dict):
     try:
         os.chmod(temporary_path, 0o666 & ~umask)  # as open() would create it, not 0600
         with os.fdopen(handle, 'w') as output:
-            json.dump(record, output, indent=2)
+            json.dump(json_ready(record), output, indent=2, allow_nan=False)
             output.flush()
             os.fsync(output.fileno())
         os.replace(temporary_path, path)

@@ -11,7 +11,7 @@ obstacle). Robot and can sizes come from the world description (``sim/scene.py``
 import collections
 import math
 import statistics
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from typing import Iterable, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -126,8 +126,30 @@ class TrialResult:
         return text
 
     def as_dict(self):
-        """JSON-ready fields."""
-        return asdict(self)
+        """JSON-ready fields: a value that is not known (NaN) is None (JSON null)."""
+        return json_ready(asdict(self))
+
+    @classmethod
+    def from_dict(cls, fields: dict) -> 'TrialResult':
+        """The result :meth:`as_dict` gave (null in a float field is NaN again)."""
+        return cls(**{name: math.nan if value is None and name in _FLOAT_FIELDS else value
+                      for name, value in fields.items()})
+
+
+_FLOAT_FIELDS = frozenset(field.name for field in fields(TrialResult) if field.type is float)
+
+
+def json_ready(value):
+    """``value`` (dicts, lists, tuples, numbers, ...) with every NaN or infinite float replaced
+    by None: JSON has no NaN, and ``json.dump`` would write a bare ``NaN`` that strict readers
+    (``python3 -m json.tool``, browsers, jq) reject."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {key: json_ready(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_ready(item) for item in value]
+    return value
 
 
 def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],

@@ -1,13 +1,18 @@
 """can_stopper: drive the robot to the can seen by image_converter and stop just in front of it.
 
-Subscribes ``/image_converter/detection`` (can_seeker/CanDetection), ``camera_info``
-(sensor_msgs/CameraInfo, for the floor the camera covers), ``~odom_topic`` (nav_msgs/Odometry)
-and every topic of ``~scan_topics`` (sensor_msgs/LaserScan of obstacles, any frame in TF);
-publishes ``/cmd_vel`` (geometry_msgs/Twist) and ``cmd_vel_stamped`` (geometry_msgs/TwistStamped,
-the same command stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep``
-once per detection, stamped like its image; ``~state`` (std_msgs/String, latched);
-``/diagnostics`` (each input's rate and age, the state and why the command is zero or limited);
-``~reset`` (std_srvs/Empty) returns to SEARCH and forgets the map. The behaviour is
+Subscribes ``detection`` (can_seeker/CanDetection; remap it to image_converter's
+``~detection``), ``camera_info`` (sensor_msgs/CameraInfo, for the floor the camera covers),
+``~odom_topic`` (nav_msgs/Odometry) and every topic of ``~scan_topics`` (sensor_msgs/LaserScan
+of obstacles, any frame in TF; sensor poses in ``~base_frame`` from
+:mod:`can_seeker.ros.camera_pose`); publishes ``cmd_vel`` (geometry_msgs/Twist) and
+``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the same command stamped with the time it is
+for) from a fixed-rate timer, or with ``~lockstep`` once per detection, stamped like its image;
+``~state`` (std_msgs/String, latched); ``~coverage`` (nav_msgs/OccupancyGrid, latched, once a
+second) and, for rviz while subscribed, ``~obstacle_grid`` (nav_msgs/OccupancyGrid of the
+obstacle memory, latched), ``~path`` (nav_msgs/Path, the planned path, empty when none) and
+``~markers`` (visualization_msgs/MarkerArray: the can estimate, the state over the robot), all
+in ``~odom_frame``; ``/diagnostics`` (each input's rate and age, the state and why the command
+is zero or limited); ``~reset`` (std_srvs/Empty) returns to SEARCH and forgets the map. The behaviour is
 :mod:`can_seeker.control.controller`. Invalid safety bounds among the parameters stop the node
 at start (exit status 1); every control tick ends in a published command, zero when anything in
 it failed; a missing or stale input is warned about, throttled per input.
@@ -21,13 +26,13 @@ import numpy as np
 import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist, TwistStamped
-from nav_msgs.msg import OccupancyGrid, Odometry
+from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from sensor_msgs.msg import CameraInfo, LaserScan
 from std_msgs.msg import String
 from std_srvs.srv import Empty, EmptyResponse
+from visualization_msgs.msg import MarkerArray
 
-from can_seeker.camera_geometry import (camera_pose_from_transform, intrinsics_from_k,
-                                        yaw_from_quaternion)
+from can_seeker.camera_geometry import intrinsics_from_k, yaw_from_quaternion
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
                                 detection_problem, problems_text, sighting_from_detection)
 from can_seeker.control.frame_inputs import FrameInputs
@@ -37,28 +42,22 @@ from can_seeker.control.tick_guard import TickGuard
 from can_seeker.control.twist_limits import ZERO, require_finite
 from can_seeker.health import ERROR, WARN, InputMonitor
 from can_seeker.msg import CanDetection
-from can_seeker.nodes.diagnostics import NodeDiagnostics
 from can_seeker.params import UnsafeParamError, read_params
+from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.diagnostics import NodeDiagnostics
+from can_seeker.ros.messages import (controller_markers, occupancy_grid, path_msg, twist,
+                                     twist_stamped)
 from can_seeker.throttle import KindThrottle
 
-BASE_FRAME = 'base_link'
 COVERAGE_PERIOD_S = 1.0
+VIEW_PERIOD_S = 0.5
+"""~obstacle_grid, ~path and ~markers (for rviz, while subscribed) go out this often (s)."""
 LOCKSTEP_QUEUE = 100
 """Odometry and scan messages kept in lockstep (a few arrive per camera frame)."""
 MISSING_INPUT_LOG_PERIOD_S = 5.0
 """A missing or stale input is warned about at most this often, per input (s)."""
 SHUTDOWN_ZERO_COUNT = 5
 SHUTDOWN_ZERO_SPACING_S = 0.02
-TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
-             tf2_ros.ExtrapolationException, tf2_ros.InvalidArgumentException)
-
-
-def twist(linear, angular):
-    """A planar Twist (m/s, rad/s)."""
-    message = Twist()
-    message.linear.x = linear
-    message.angular.z = angular
-    return message
 
 
 class CanStopperNode:
@@ -70,16 +69,23 @@ class CanStopperNode:
         self.guard = TickGuard(lambda message: rospy.logerr('can_stopper: %s' % message))
         self.lock = threading.Lock()
         self.shutting_down = False
-        self.camera_poses = {}
-        self.sensor_poses = {}
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
-        self.cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
+        # Camera and scan sensors alike: no fallback here (the camera's is ~camera_x).
+        self.sensor_poses = CameraPoseSource.from_tf(self.tf_buffer, params.base_frame,
+                                                     name='can_stopper')
+        self.cmd_pub = rospy.Publisher('cmd_vel', Twist, queue_size=1)
         self.stamped_cmd_pub = rospy.Publisher('cmd_vel_stamped', TwistStamped, queue_size=10)
         self.state_pub = rospy.Publisher('~state', String, queue_size=1, latch=True)
         self.coverage_pub = rospy.Publisher('~coverage', OccupancyGrid, queue_size=1, latch=True)
+        self.obstacle_grid_pub = rospy.Publisher('~obstacle_grid', OccupancyGrid, queue_size=1,
+                                                 latch=True)
+        self.path_pub = rospy.Publisher('~path', Path, queue_size=1)
+        self.markers_pub = rospy.Publisher('~markers', MarkerArray, queue_size=1)
         self.coverage_s = -float('inf')
-        self.odom_frame = 'odom'
+        self.view_s = -float('inf')
+        self.odom_frame = params.odom_frame
+        self.camera_pose_logged = set()
         self.published_state = None
         self.publish_state()
         self.missing_input_log = KindThrottle(MISSING_INPUT_LOG_PERIOD_S)
@@ -107,7 +113,7 @@ class CanStopperNode:
             lambda: odom_sub.get_num_connections() > 0,
             lambda topic: scan_subs[topic].get_num_connections() > 0,
             self.controller.scan_sources)
-        rospy.Subscriber('/image_converter/detection', CanDetection, self.on_detection,
+        rospy.Subscriber('detection', CanDetection, self.on_detection,
                          queue_size=input_queue, tcp_nodelay=True)
         self.diagnostics = NodeDiagnostics()
         self.diagnostics.add('control', self.control_health)
@@ -136,21 +142,9 @@ class CanStopperNode:
         return self.controller.is_stale(now) and self.controller.last_image_s is not None
 
     def sensor_pose(self, frame_id):
-        """The full pose (CameraPose: position, rotation) of a frame in base_link from TF,
-        cached (sensors are fixed on the robot), or None while TF does not have it."""
-        if frame_id in self.sensor_poses:
-            return self.sensor_poses[frame_id]
-        try:
-            transform = self.tf_buffer.lookup_transform(BASE_FRAME, frame_id, rospy.Time(0))
-        except TF_ERRORS as error:
-            rospy.logwarn_throttle(5.0, 'can_stopper: no TF %s -> %r yet (%s)'
-                                   % (BASE_FRAME, frame_id, error))
-            return None
-        translation, rotation = transform.transform.translation, transform.transform.rotation
-        pose = camera_pose_from_transform((translation.x, translation.y, translation.z),
-                                          (rotation.x, rotation.y, rotation.z, rotation.w))
-        self.sensor_poses[frame_id] = pose
-        return pose
+        """The full pose (CameraPose: position, rotation) of a sensor frame in ~base_frame
+        from TF, or None while TF does not have it."""
+        return self.sensor_poses.pose(frame_id, rospy.get_time())
 
     def on_camera_info(self, info):
         """The camera's floor footprint, once per camera frame (for the coverage grid)."""
@@ -179,7 +173,11 @@ class CanStopperNode:
         if not all(math.isfinite(v) for v in (pose.position.x, pose.position.y, yaw)):
             rospy.logerr_throttle(5.0, 'can_stopper: ignoring odometry with a non-finite pose')
             return
-        self.odom_frame = odom.header.frame_id or self.odom_frame
+        frame = odom.header.frame_id.lstrip('/')
+        if frame and frame != self.odom_frame:
+            rospy.logwarn_once('can_stopper: odometry is in %r, not in ~odom_frame %r: the map, '
+                               'path and markers say %r' % (frame, self.odom_frame,
+                                                            self.odom_frame))
         pose_2d = Pose2D(pose.position.x, pose.position.y, yaw)
         with self.lock:
             if not self.params.lockstep:
@@ -210,23 +208,17 @@ class CanStopperNode:
             self.answer_frames()
 
     def camera_pose(self, frame_id):
-        """The camera's floor pose in base_link, from TF once per frame, else from params."""
-        if frame_id in self.camera_poses:
-            return self.camera_poses[frame_id]
-        try:
-            transform = self.tf_buffer.lookup_transform(BASE_FRAME, frame_id, rospy.Time(0))
-        except TF_ERRORS as error:
-            rospy.logwarn_throttle(5.0, 'can_stopper: no TF %s -> %r yet (%s); using camera_x '
-                                   '%.3f m' % (BASE_FRAME, frame_id, error, self.params.camera_x))
+        """The camera's floor pose in ~base_frame from TF, else from ~camera_x."""
+        pose = self.sensor_pose(frame_id)
+        if pose is None:
             return CameraFloorPose(self.params.camera_x, 0.0, 0.0)
-        translation, rotation = transform.transform.translation, transform.transform.rotation
-        pose = camera_floor_pose(camera_pose_from_transform(
-            (translation.x, translation.y, translation.z),
-            (rotation.x, rotation.y, rotation.z, rotation.w)))
-        rospy.loginfo('can_stopper: camera %r at x=%.3f y=%.3f m, yaw %.4f rad in %s'
-                      % (frame_id, pose.x, pose.y, pose.yaw, BASE_FRAME))
-        self.camera_poses[frame_id] = pose
-        return pose
+        floor_pose = camera_floor_pose(pose)
+        if frame_id not in self.camera_pose_logged:
+            self.camera_pose_logged.add(frame_id)
+            rospy.loginfo('can_stopper: camera %r at x=%.3f y=%.3f m, yaw %.4f rad in %s'
+                          % (frame_id, floor_pose.x, floor_pose.y, floor_pose.yaw,
+                             self.params.base_frame))
+        return floor_pose
 
     def on_detection(self, detection):
         self.monitors['detection'].received(rospy.get_time(), detection.header.stamp.to_sec())
@@ -272,10 +264,8 @@ class CanStopperNode:
         """``command`` (linear m/s, angular rad/s) on /cmd_vel and, stamped, on cmd_vel_stamped;
         ValueError for a non-finite one."""
         message = twist(*require_finite(command))
-        stamped = TwistStamped(twist=message)
-        stamped.header.stamp = stamp
         self.cmd_pub.publish(message)
-        self.stamped_cmd_pub.publish(stamped)
+        self.stamped_cmd_pub.publish(twist_stamped(message, stamp))
 
     def on_timer(self, _event):
         """One control tick; whatever fails in it, it ends in a published command (zero) and
@@ -307,8 +297,11 @@ class CanStopperNode:
                 coverage = self.controller.navigator.grid.occupancy_values()
             missing = self.controller.missing_inputs(now)
             state, why = self.controller.state.value, self.why(now)
+            view = self.view(now)
         if coverage is not None:
             self.publish_coverage(coverage, now)
+        if view is not None:
+            self.publish_view(view, now)
         self.warn_missing(missing, state, why, now)
         self.publish_state()
 
@@ -321,20 +314,47 @@ class CanStopperNode:
                     'command not limited by it'))
 
     def publish_coverage(self, values, now):
-        """The obstacle and coverage grid as an OccupancyGrid in odom (100 obstacle, 0 floor the
-        camera covered, -1 not covered)."""
+        """The obstacle and coverage grid as an OccupancyGrid in ~odom_frame (100 obstacle, 0
+        floor the camera covered, -1 not covered)."""
         grid = self.controller.navigator.grid
-        message = OccupancyGrid()
-        message.header.stamp = rospy.Time.from_sec(now)
-        message.header.frame_id = self.odom_frame
-        message.info.map_load_time = message.header.stamp
-        message.info.resolution = grid.resolution_m
-        message.info.width, message.info.height = values.shape[1], values.shape[0]
-        message.info.origin.position.x = grid.origin_m
-        message.info.origin.position.y = grid.origin_m
-        message.info.origin.orientation.w = 1.0
-        message.data = values.reshape(-1).tolist()
-        self.coverage_pub.publish(message)
+        self.coverage_pub.publish(occupancy_grid(
+            values, grid.resolution_m, (grid.origin_m, grid.origin_m), self.odom_frame,
+            rospy.Time.from_sec(now)))
+
+    def view(self, now):
+        """What rviz is shown, under the lock, every VIEW_PERIOD_S while anyone subscribes:
+        (obstacle grid values or None, path or None, can estimate, robot xy, state)."""
+        want_grid = self.obstacle_grid_pub.get_num_connections() > 0
+        want_path = self.path_pub.get_num_connections() > 0
+        want_markers = self.markers_pub.get_num_connections() > 0
+        if not (want_grid or want_path or want_markers) or abs(now - self.view_s) < VIEW_PERIOD_S:
+            return None
+        self.view_s = now
+        controller = self.controller
+        navigator = controller.navigator
+        grid = (np.where(navigator.grid.occupied(), 100, 0).astype(np.int8).T
+                if want_grid else None)
+        path = None if controller.path_xy is None else np.array(controller.path_xy)
+        pose = navigator.pose
+        return (grid, path if want_path else False, controller.can_xy,
+                None if pose is None else (pose.x, pose.y),
+                controller.state.value if want_markers else None)
+
+    def publish_view(self, view, now):
+        """~obstacle_grid, ~path and ~markers in ~odom_frame (those someone subscribes)."""
+        grid_values, path, can_xy, robot_xy, state = view
+        stamp = rospy.Time.from_sec(now)
+        if grid_values is not None:
+            grid = self.controller.navigator.grid
+            self.obstacle_grid_pub.publish(occupancy_grid(
+                grid_values, grid.resolution_m, (grid.origin_m, grid.origin_m),
+                self.odom_frame, stamp))
+        if path is not False:
+            self.path_pub.publish(path_msg(path, self.odom_frame, stamp))
+        if state is not None:
+            self.markers_pub.publish(controller_markers(
+                can_xy, self.params.can_radius, self.params.can_height, robot_xy, state,
+                self.odom_frame, stamp))
 
     def publish_state(self, force=False):
         """Publish the state when it changed (or always, with ``force``)."""

@@ -6,9 +6,8 @@ Subscribes ``image`` (queue_size=1 and a large buff_size: always the newest fram
 images and camera_info, what became of the recent frames). Thresholds are tunable with
 dynamic_reconfigure.
 The camera pose for range and bearing comes from TF (``~base_frame`` <- image frame), else
-from ``~camera_height``/``~camera_pitch_deg``.
+from ``~camera_height``/``~camera_pitch_deg`` (:mod:`can_seeker.ros.camera_pose`).
 """
-import struct
 import time
 
 import cv2
@@ -19,33 +18,27 @@ from dynamic_reconfigure.server import Server
 from sensor_msgs.msg import CameraInfo, Image
 
 from can_seeker.allocator import reuse_freed_memory
-from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
+from can_seeker.camera_geometry import intrinsics_from_k
 from can_seeker.cfg import ImageConverterConfig
 from can_seeker.gui.display_check import OPENCV_WINDOW_PROBE, display_problem
 from can_seeker.gui.windows import ImageWindows
-from can_seeker.health import ERROR, OK, WARN, InputMonitor, Outcomes
-from can_seeker.nodes.diagnostics import NodeDiagnostics
-from can_seeker.vision.report import PARAMS, CanModel, can_report, fallback_pose
-from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
+from can_seeker.health import ERROR, OK, WARN, Outcomes
 from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
+from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.diagnostics import image_diagnostics
+from can_seeker.ros.messages import IMAGE_BUFF_SIZE, detection_msg, image_msg
+from can_seeker.vision.report import PARAMS, CanModel, can_report, fallback_pose
+from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                         draw_annotation)
-
-IMAGE_BUFF_SIZE = 2 ** 24
-"""Subscriber socket buffer (bytes): with queue_size=1 it keeps only the newest frame."""
 
 ERROR_PERIOD_S = 5.0
 OPENCV_THREADS = 1
 """OpenCV worker threads: one frame's passes are too short to share (tens of microseconds at
 640x480), and idle TBB workers spin after each one; a single thread costs about 0.2 ms less CPU
 per frame and leaves the other core to the camera and the controller."""
-POSE_REFRESH_S = 1.0
-"""A camera pose found in TF is reused for this long (wall time): a camera mount is static,
-and a TF lookup per frame costs more than the rest of the geometry."""
-IMAGE_TIMEOUT_S = 1.0
-"""The diagnostics report the camera as missing once its newest image is this old (s)."""
 
 
 def frame_outcome(found, range_m, intrinsics, pose):
@@ -57,48 +50,6 @@ def frame_outcome(found, range_m, intrinsics, pose):
     if np.isfinite(range_m):
         return 'red object with a range', OK
     return 'red object without a range', OK
-
-
-def image_diagnostics(node_outcomes):
-    """A NodeDiagnostics with the image and camera_info inputs of an image node and its
-    ``node_outcomes`` (an Outcomes, as status 'frames'); the two InputMonitors."""
-    image = InputMonitor('image', IMAGE_TIMEOUT_S)
-    camera_info = InputMonitor('camera_info', missing_level=WARN)
-    diagnostics = NodeDiagnostics()
-    diagnostics.add('frames', node_outcomes.health)
-    diagnostics.add_input(image)
-    diagnostics.add_input(camera_info)
-    return diagnostics, image, camera_info
-
-
-class ArrayImage(Image):
-    """A sensor_msgs/Image whose ``data`` is a C-contiguous uint8 numpy array, written to the
-    wire straight from the array's memory: Image.serialize wants bytes and packs them again,
-    two copies of every image published (0.07 ms per 640x480 bgr8 image)."""
-
-    def serialize(self, buff):
-        """The sensor_msgs/Image wire format (header, height, width, encoding, is_bigendian,
-        step, data), as Image.serialize writes it."""
-        header = self.header
-        frame_id = header.frame_id.encode('utf-8')
-        encoding = self.encoding.encode('utf-8')
-        buff.write(struct.pack('<4I', header.seq, header.stamp.secs, header.stamp.nsecs,
-                               len(frame_id)))
-        buff.write(frame_id)
-        buff.write(struct.pack('<3I', self.height, self.width, len(encoding)))
-        buff.write(encoding)
-        buff.write(struct.pack('<BII', self.is_bigendian, self.step, self.data.nbytes))
-        buff.write(self.data.data)
-
-
-def image_msg(header, array, encoding):
-    """sensor_msgs/Image of a uint8 array (mono8: 2-D, bgr8: 3-D) that stays unchanged until
-    the message is published (publish serialises it at once); contiguous arrays are not
-    copied."""
-    array = np.ascontiguousarray(array)
-    height, width = array.shape[:2]
-    return ArrayImage(header=header, height=height, width=width, encoding=encoding,
-                      is_bigendian=0, step=array.strides[0], data=array)
 
 
 def warn_unless_remapped(*names):
@@ -121,12 +72,14 @@ class ImageConverterNode:
             rospy.set_param('~' + spec.name, getattr(self.config, spec.name))
         self.detector = RedCanDetector(DetectorSettings.from_values(self.config))
         self.can_model = CanModel.from_values(self.config)
-        self.fallback_pose = fallback_pose(self.config.camera_height, self.config.camera_pitch_deg)
         self.intrinsics = None
-        self.camera_poses = {}
         self.annotated_buffer = None
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.camera_poses = CameraPoseSource.from_tf(
+            self.tf_buffer, self.config.base_frame,
+            fallback_pose(self.config.camera_height, self.config.camera_pitch_deg),
+            'image_converter')
         self.display = self._make_display(self.config.show)
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.detection_pub = rospy.Publisher('~detection', CanDetection, queue_size=10)
@@ -182,30 +135,7 @@ class ImageConverterNode:
                                   'image is %dx%d: range and bearing are NaN' % (
                                       intrinsics.width, intrinsics.height, msg.width, msg.height))
             intrinsics = None
-        return self.camera_pose(msg.header.frame_id.lstrip('/')), intrinsics
-
-    def camera_pose(self, frame_id):
-        """The optical frame's pose in ~base_frame from TF (looked up again after
-        POSE_REFRESH_S), else the fallback from the parameters (None: unknown)."""
-        now = time.monotonic()
-        cached = self.camera_poses.get(frame_id)
-        if cached is not None and now - cached[1] < POSE_REFRESH_S:
-            return cached[0]
-        try:
-            transform = self.tf_buffer.lookup_transform(self.config.base_frame, frame_id,
-                                                        rospy.Time(0)).transform
-            pose = camera_pose_from_transform(
-                (transform.translation.x, transform.translation.y, transform.translation.z),
-                (transform.rotation.x, transform.rotation.y, transform.rotation.z,
-                 transform.rotation.w))
-        except (tf2_ros.TransformException, ValueError) as error:
-            rospy.logwarn_throttle(ERROR_PERIOD_S, 'image_converter: no camera pose from TF '
-                                   '(%s); %s' % (error, 'using ~camera_height and '
-                                                 '~camera_pitch_deg' if self.fallback_pose else
-                                                 'range and bearing are NaN'))
-            return self.fallback_pose
-        self.camera_poses[frame_id] = (pose, now)
-        return pose
+        return self.camera_poses.pose(msg.header.frame_id, rospy.get_time()), intrinsics
 
     def on_image(self, msg):
         self.image_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
@@ -259,14 +189,7 @@ class ImageConverterNode:
                 if held_back else ''))
 
     def publish_detection(self, image, report):
-        detection = CanDetection(header=image.header, found=report.found,
-                                 centroid_x=report.centroid_x, centroid_y=report.centroid_y,
-                                 area=report.area, image_width=report.image_width,
-                                 image_height=report.image_height, bearing=report.bearing_rad,
-                                 range=report.range_m, confidence=report.confidence)
-        detection.bbox.x_offset, detection.bbox.y_offset, detection.bbox.width, \
-            detection.bbox.height = report.bbox
-        self.detection_pub.publish(detection)
+        self.detection_pub.publish(detection_msg(image.header, report))
 
 
 def main():

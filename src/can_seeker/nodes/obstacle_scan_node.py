@@ -5,8 +5,8 @@ Subscribes ``image`` (queue_size=1, large buff_size: always the newest frame) an
 with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``~obstacles``
 (mono8), and /diagnostics (the rates and ages of the images and camera_info, whether the
 recent frames gave a scan and if not why). The camera pose comes from TF (``~scan_frame`` <-
-image frame), cached and refreshed once a second, else from
-``~camera_height``/``~camera_pitch_deg``. ``~reset`` (std_srvs/Empty)
+image frame), else from ``~camera_height``/``~camera_pitch_deg``
+(:mod:`can_seeker.ros.camera_pose`). ``~reset`` (std_srvs/Empty)
 forgets the learned floor model, so a new trial does not inherit the last one's.
 """
 import threading
@@ -18,10 +18,12 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.allocator import reuse_freed_memory
-from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
+from can_seeker.camera_geometry import intrinsics_from_k
 from can_seeker.health import ERROR, OK, Outcomes
-from can_seeker.nodes.image_converter_node import IMAGE_BUFF_SIZE, image_diagnostics, image_msg
 from can_seeker.params import read_params
+from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.diagnostics import image_diagnostics
+from can_seeker.ros.messages import IMAGE_BUFF_SIZE, image_msg, laser_scan
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
@@ -34,8 +36,6 @@ FALLBACK_POSE_PARAMS = tuple(spec for spec in DETECTOR_NODE_PARAMS
 PARAMS = FLOOR_PARAMS + SCAN_PARAMS + FALLBACK_POSE_PARAMS
 
 ERROR_PERIOD_S = 5.0
-POSE_REFRESH_S = 1.0
-"""The camera mount is static: its TF pose is looked up again at most this often (s)."""
 
 
 class ObstacleScanNode:
@@ -43,16 +43,15 @@ class ObstacleScanNode:
         self.config = read_params(PARAMS, rospy.get_param, rospy.logwarn)
         self.scanner = CameraScanner(FloorSettings.from_values(self.config),
                                      self.config.max_range, self.config.exclude_can)
-        self.fallback_pose = fallback_pose(self.config.camera_height,
-                                           self.config.camera_pitch_deg)
         self.intrinsics = None
-        self.pose = None
-        self.pose_frame = None
-        self.pose_time = None
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.scanner_lock = threading.Lock()
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.camera_poses = CameraPoseSource.from_tf(
+            self.tf_buffer, self.config.scan_frame,
+            fallback_pose(self.config.camera_height, self.config.camera_pitch_deg),
+            'obstacle_scan')
         self.scan_pub = rospy.Publisher('camera_scan', LaserScan, queue_size=1)
         self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
         self.obstacles_pub = rospy.Publisher('~obstacles', Image, queue_size=1)
@@ -77,31 +76,6 @@ class ObstacleScanNode:
         except ValueError as error:
             rospy.logerr_throttle(ERROR_PERIOD_S, 'obstacle_scan: ignoring camera_info: %s'
                                   % error)
-
-    def camera_pose(self, frame_id):
-        """The camera pose in ~scan_frame: cached TF, refreshed once a second, else fallback."""
-        now = rospy.get_rostime()
-        fresh = (self.pose is not None and frame_id == self.pose_frame
-                 and abs((now - self.pose_time).to_sec()) < POSE_REFRESH_S)
-        if fresh:
-            return self.pose
-        try:
-            transform = self.tf_buffer.lookup_transform(
-                self.config.scan_frame, frame_id, rospy.Time(0)).transform
-            self.pose = camera_pose_from_transform(
-                (transform.translation.x, transform.translation.y, transform.translation.z),
-                (transform.rotation.x, transform.rotation.y, transform.rotation.z,
-                 transform.rotation.w))
-            self.pose_frame, self.pose_time = frame_id, now
-            return self.pose
-        except (tf2_ros.TransformException, ValueError) as error:
-            if self.pose is not None and frame_id == self.pose_frame:
-                return self.pose
-            rospy.logwarn_throttle(ERROR_PERIOD_S, 'obstacle_scan: no camera pose from TF '
-                                   '(%s); %s' % (error, 'using ~camera_height and '
-                                                 '~camera_pitch_deg' if self.fallback_pose
-                                                 else 'no scan until TF has it'))
-            return self.fallback_pose
 
     def camera_intrinsics(self, msg):
         intrinsics = self.intrinsics
@@ -130,7 +104,8 @@ class ObstacleScanNode:
         want_obstacles = self.obstacles_pub.get_num_connections() > 0
         want_annotated = self.annotated_pub.get_num_connections() > 0
         intrinsics = self.camera_intrinsics(msg)
-        pose = self.camera_pose(msg.header.frame_id.lstrip('/')) if intrinsics else None
+        pose = (self.camera_poses.pose(msg.header.frame_id, rospy.get_time()) if intrinsics
+                else None)
         with self.scanner_lock:
             result = self.scanner.scan(bgr, pose, intrinsics)
         if result.ranges is not None:
@@ -159,14 +134,8 @@ class ObstacleScanNode:
                 if held_back else ''))
 
     def publish_scan(self, stamp, ranges):
-        geometry = self.scanner.geometry
-        scan = LaserScan(angle_min=geometry.angle_min, angle_max=geometry.angle_max,
-                         angle_increment=geometry.angle_increment, time_increment=0.0,
-                         scan_time=0.0, range_min=geometry.range_min,
-                         range_max=geometry.range_max, ranges=ranges.tolist())
-        scan.header.stamp = stamp
-        scan.header.frame_id = self.config.scan_frame
-        self.scan_pub.publish(scan)
+        self.scan_pub.publish(laser_scan(self.scanner.geometry, ranges.tolist(), stamp,
+                                         self.config.scan_frame))
 
 
 def main():

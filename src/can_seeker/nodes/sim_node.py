@@ -5,7 +5,9 @@ Publishes /clock (every physics step), /camera/image_raw + /camera/camera_info (
 sim time the frame was captured; with ~realism, published later and as a real camera sees it),
 /scan (the lidar), /odom and TF odom->base_link (the true pose at ~realism ideal, else wheel
 odometry that drifts), static TF base_link->camera_link->camera_optical_frame from the actual
-camera parameters and base_link->base_scan, and ground truth in the world frame:
+camera parameters and base_link->base_scan (each frame name a parameter: ``~base_frame``,
+``~odom_frame``, ``~camera_frame``, ``~optical_frame``, ``~lidar_frame``), and ground truth in
+``~world_frame``:
 /sim/base_pose_ground_truth (the true pose and twist), /sim/can_pose, /sim/contact and
 /sim/contacts (whether and what the robot touched at any physics step since the previous
 message) and /sim/world (latched: the scene in the world-file format), and /diagnostics (sim
@@ -20,7 +22,7 @@ import time
 import rospy
 import tf2_ros
 import yaml
-from geometry_msgs.msg import PoseStamped, TransformStamped, Twist, TwistStamped
+from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, LaserScan
@@ -28,28 +30,22 @@ from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.msg import Contacts
-from can_seeker.sim import lidar
 from can_seeker.sim.call_queue import CallQueue
 from can_seeker.sim.lockstep import LockstepGate, header_stamp_s, parse_topics
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.gui.display_check import X11_PROBE, display_problem
 from can_seeker.health import WARN, InputMonitor
-from can_seeker.nodes.diagnostics import NodeDiagnostics
 from can_seeker.params import read_params
+from can_seeker.ros.diagnostics import NodeDiagnostics
+from can_seeker.ros.messages import camera_info, odometry, transform_stamped
+from can_seeker.ros.paths import urdf_path, worlds_dir
 from can_seeker.sim.simulation import (PARAMS, Simulation, camera_spec, can_visible_from_start,
                                        checked_config, scene_for)
 from can_seeker.sim.status import RunStatus
 from can_seeker.srv import (NewWorld, NewWorldResponse, PlaceCan, PlaceCanResponse, ResetTrial,
                             ResetTrialResponse)
-from can_seeker.sim.world import World, package_urdf_path, package_worlds_dir
+from can_seeker.sim.world import World
 
-ODOM_FRAME = 'odom'
-WORLD_FRAME = 'world'
-"""The simulator's fixed frame of the ground truth: odom coincides with it at the start and
-after every reset, and drifts away from it with wheel odometry."""
-BASE_FRAME = 'base_link'
-CAMERA_FRAME = 'camera_link'
-OPTICAL_FRAME = 'camera_optical_frame'
 SERVICE_TIMEOUT_S = 10.0
 MAX_PACING_LAG_S = 0.5
 """When the loop falls this far behind the wall-clock pace (s), it stops trying to catch up."""
@@ -63,60 +59,19 @@ TRUTH_QUEUE_SIZE = 1000
 """Outgoing queue of /odom and the ground-truth topics (messages; about 20 s of sim time)."""
 
 
-def _transform(stamp, parent, child, translation, rotation_xyzw) -> TransformStamped:
-    transform = TransformStamped()
-    transform.header.stamp = stamp
-    transform.header.frame_id = parent
-    transform.child_frame_id = child
-    (transform.transform.translation.x, transform.transform.translation.y,
-     transform.transform.translation.z) = translation
-    (transform.transform.rotation.x, transform.transform.rotation.y,
-     transform.transform.rotation.z, transform.transform.rotation.w) = rotation_xyzw
-    return transform
-
-
-def _camera_info(intrinsics, distortion) -> CameraInfo:
-    info = CameraInfo()
-    info.header.frame_id = OPTICAL_FRAME
-    info.width = intrinsics.width
-    info.height = intrinsics.height
-    info.distortion_model = 'plumb_bob'
-    info.D = list(distortion)
-    info.K = intrinsics.K
-    info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
-    info.P = intrinsics.P
-    return info
-
-
-def _odometry(stamp, frame, position, orientation_xyzw, linear, angular) -> Odometry:
-    """A nav_msgs/Odometry of base_link in ``frame``."""
-    odom = Odometry()
-    odom.header.stamp = stamp
-    odom.header.frame_id = frame
-    odom.child_frame_id = BASE_FRAME
-    pose = odom.pose.pose
-    pose.position.x, pose.position.y, pose.position.z = position
-    (pose.orientation.x, pose.orientation.y, pose.orientation.z,
-     pose.orientation.w) = orientation_xyzw
-    twist = odom.twist.twist
-    twist.linear.x, twist.linear.y, twist.linear.z = linear
-    twist.angular.x, twist.angular.y, twist.angular.z = angular
-    return odom
-
-
 class SimNode:
     """Glue between ROS and a :class:`Simulation`; everything pybullet runs in :meth:`spin`."""
 
     def __init__(self):
         config = checked_config(read_params(PARAMS, rospy.get_param, rospy.logwarn),
-                                rospy.logwarn, [package_worlds_dir()])
+                                rospy.logwarn, [worlds_dir()])
         if config.gui:
             problem = display_problem(X11_PROBE)
             if problem:
                 rospy.logwarn('sim: ~gui is true but %s: running headless' % problem)
                 config.gui = False
         spec = camera_spec(config)
-        world = World(package_urdf_path(), spec, config.physics_rate, config.renderer, config.gui,
+        world = World(urdf_path(), spec, config.physics_rate, config.renderer, config.gui,
                       config.can_color, config.scene, config.can_texture)
         rospy.loginfo('sim: %s world with %d walls and %d obstacles; rendering %dx%d at %.1f Hz '
                       'with %s; can at (%.3f, %.3f)', config.world, len(config.scene.walls),
@@ -129,7 +84,8 @@ class SimNode:
         self._paused = False
         self._reset_s = self._sim.time_s
         self._gate = LockstepGate(config.lockstep_timeout) if config.lockstep else None
-        self._camera_info = _camera_info(spec.intrinsics, self._sim.realism.distortion)
+        self._camera_info = camera_info(spec.intrinsics, self._sim.realism.distortion,
+                                        config.optical_frame)
         rospy.loginfo('sim: realism %s', config.realism)
 
         self._clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
@@ -146,18 +102,18 @@ class SimNode:
         self._contacts_pub = rospy.Publisher('~contacts', Contacts, queue_size=TRUTH_QUEUE_SIZE)
         self._world_pub = rospy.Publisher('~world', String, queue_size=1, latch=True)
         self._scan_pub = rospy.Publisher('scan', LaserScan, queue_size=5)
-        self._scan = self._scan_template(self._sim.lidar, config.scan_rate)
+        self._scan = self._scan_template(self._sim.lidar, config.scan_rate, config.lidar_frame)
         self._tf_broadcaster = tf2_ros.TransformBroadcaster()
         self._static_broadcaster = tf2_ros.StaticTransformBroadcaster()
         self._publish_clock()
         stamp = rospy.Time.from_sec(self._sim.time_s)
         self._static_broadcaster.sendTransform([
-            _transform(stamp, BASE_FRAME, CAMERA_FRAME, spec.mount.translation_m,
-                       spec.mount.rotation_xyzw),
-            _transform(stamp, CAMERA_FRAME, OPTICAL_FRAME, (0.0, 0.0, 0.0),
-                       OPTICAL_IN_CAMERA_LINK_XYZW),
-            _transform(stamp, BASE_FRAME, lidar.FRAME, (0.0, 0.0, config.scan_height),
-                       (0.0, 0.0, 0.0, 1.0)),
+            transform_stamped(stamp, config.base_frame, config.camera_frame,
+                              spec.mount.translation_m, spec.mount.rotation_xyzw),
+            transform_stamped(stamp, config.camera_frame, config.optical_frame, (0.0, 0.0, 0.0),
+                              OPTICAL_IN_CAMERA_LINK_XYZW),
+            transform_stamped(stamp, config.base_frame, config.lidar_frame,
+                              (0.0, 0.0, config.scan_height), (0.0, 0.0, 0.0, 1.0)),
         ])
         self._publish_world()
         self._frames = 0
@@ -188,11 +144,11 @@ class SimNode:
             None if gate is None else gate.timeouts, () if gate is None else gate.missing())
 
     @staticmethod
-    def _scan_template(spec, rate_hz):
+    def _scan_template(spec, rate_hz, frame_id):
         if spec is None:
             return None
         scan = LaserScan()
-        scan.header.frame_id = lidar.FRAME
+        scan.header.frame_id = frame_id
         scan.angle_min = spec.angle_min_rad
         scan.angle_max = spec.angle_max_rad
         scan.angle_increment = spec.angle_increment_rad
@@ -310,7 +266,7 @@ class SimNode:
     def _publish_image(self, image, stamp):
         message = Image()
         message.header.stamp = stamp
-        message.header.frame_id = OPTICAL_FRAME
+        message.header.frame_id = self._config.optical_frame
         message.height, message.width = image.shape[:2]
         message.encoding = self._sim.encoding
         message.step = message.width * 3
@@ -326,28 +282,32 @@ class SimNode:
 
     def _publish_state(self, stamp, touched):
         world = self._sim.world
+        config = self._config
         robot = world.robot_state()
-        truth = _odometry(stamp, WORLD_FRAME, robot.position, robot.orientation_xyzw,
-                          robot.linear_velocity, robot.angular_velocity)
+        truth = odometry(stamp, config.world_frame, config.base_frame, robot.position,
+                         robot.orientation_xyzw, robot.linear_velocity, robot.angular_velocity)
         self._truth_pub.publish(truth)
         if self._sim.realism.spec.odometry_is_true:
-            odom = _odometry(stamp, ODOM_FRAME, robot.position, robot.orientation_xyzw,
-                             robot.linear_velocity, robot.angular_velocity)
+            odom = odometry(stamp, config.odom_frame, config.base_frame, robot.position,
+                            robot.orientation_xyzw, robot.linear_velocity,
+                            robot.angular_velocity)
         else:
             estimate = self._sim.odometry()
-            odom = _odometry(stamp, ODOM_FRAME, (estimate.x_m, estimate.y_m, robot.position[2]),
-                             (0.0, 0.0, math.sin(estimate.yaw_rad / 2.0),
-                              math.cos(estimate.yaw_rad / 2.0)),
-                             (estimate.linear_mps, 0.0, 0.0), (0.0, 0.0, estimate.angular_radps))
+            odom = odometry(stamp, config.odom_frame, config.base_frame,
+                            (estimate.x_m, estimate.y_m, robot.position[2]),
+                            (0.0, 0.0, math.sin(estimate.yaw_rad / 2.0),
+                             math.cos(estimate.yaw_rad / 2.0)),
+                            (estimate.linear_mps, 0.0, 0.0), (0.0, 0.0, estimate.angular_radps))
         self._odom_pub.publish(odom)
         pose = odom.pose.pose
-        self._tf_broadcaster.sendTransform(_transform(
-            stamp, ODOM_FRAME, BASE_FRAME, (pose.position.x, pose.position.y, pose.position.z),
+        self._tf_broadcaster.sendTransform(transform_stamped(
+            stamp, config.odom_frame, config.base_frame,
+            (pose.position.x, pose.position.y, pose.position.z),
             (pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w)))
         can_position, can_orientation = world.can_pose()
         can = PoseStamped()
         can.header.stamp = stamp
-        can.header.frame_id = WORLD_FRAME
+        can.header.frame_id = config.world_frame
         can.pose.position.x, can.pose.position.y, can.pose.position.z = can_position
         (can.pose.orientation.x, can.pose.orientation.y, can.pose.orientation.z,
          can.pose.orientation.w) = can_orientation

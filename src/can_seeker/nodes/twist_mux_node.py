@@ -13,7 +13,7 @@ from geometry_msgs.msg import Twist
 from std_msgs.msg import String
 
 from can_seeker.health import OK, WARN, Health, InputMonitor
-from can_seeker.nodes.diagnostics import NodeDiagnostics
+from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.params import read_params
 from can_seeker.teleop.mux import PARAMS, TwistMux, parse_inputs
 

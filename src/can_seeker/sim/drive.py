@@ -7,7 +7,7 @@ is older than the timeout), approached at bounded accelerations.
 import math
 from typing import Tuple
 
-from can_seeker.control.twist_limits import step_toward
+from can_seeker.ramp import step_toward
 
 
 class CommandWatchdog:

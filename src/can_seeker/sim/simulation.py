@@ -18,6 +18,7 @@ import yaml
 from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import MOUNT_PARAMS, CameraMount
 from can_seeker.sim.drive import CommandWatchdog, TwistLimiter
+from can_seeker.frames import SIM_FRAME_PARAMS
 from can_seeker.params import Param
 from can_seeker.sim.appearance import random_appearance
 from can_seeker.sim.lidar import LidarSpec
@@ -108,12 +109,12 @@ PARAMS = (
           '~lockstep_topics topic and the stamped command (cmd_vel_stamped) answered it with a '
           'message stamped at or after the frame (or ~lockstep_timeout passed); the base then '
           'follows cmd_vel_stamped only'),
-    Param('lockstep_topics', '/image_converter/detection', 'topics with a std_msgs/Header '
+    Param('lockstep_topics', 'image_converter/detection', 'topics with a std_msgs/Header '
           'whose stamp must reach the frame stamp before the next step in lockstep, separated '
           'by spaces; a topic without a publisher is not waited for'),
     Param('lockstep_timeout', 2.0, 'wall-clock seconds a frame waits for its answers in '
           'lockstep before the simulation steps on (counted, with a warning)', 0.01, 600.0),
-) + REALISM_PARAMS
+) + SIM_FRAME_PARAMS + REALISM_PARAMS
 
 MIN_CAN_CLEARANCE_M = ROBOT_RADIUS_M + CAN_RADIUS_M
 """A can centre closer than this to base_link (m) would overlap the robot."""

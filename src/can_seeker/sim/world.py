@@ -18,7 +18,6 @@ import cv2
 import numpy as np
 import pybullet
 import pybullet_data
-import rospkg
 from pybullet_utils.bullet_client import BulletClient
 
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_matrix, \
@@ -75,17 +74,6 @@ def checker_floor_obj(mtl_name: str) -> str:
             'usemtl floor\ns off\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n'
             % (mtl_name, side, -side, side, side, -side, side, -side, -side,
                side, side, side, side))
-
-
-def package_urdf_path() -> str:
-    """The robot URDF of the installed can_seeker package, at the default camera mount (the
-    simulator and robot_description apply the actual one)."""
-    return os.path.join(rospkg.RosPack().get_path('can_seeker'), 'urdf', 'can_seeker_robot.urdf')
-
-
-def package_worlds_dir() -> str:
-    """The world files of the installed can_seeker package."""
-    return os.path.join(rospkg.RosPack().get_path('can_seeker'), 'worlds')
 
 
 @dataclass(frozen=True)

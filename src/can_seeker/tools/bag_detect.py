@@ -19,10 +19,11 @@ import rospy
 import tf2_ros
 from tqdm import tqdm
 
-from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
+from can_seeker.camera_geometry import intrinsics_from_k
 from can_seeker.vision import report
 from can_seeker.vision.report import CanModel, can_report, fallback_pose
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
+from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.params import read_params
 from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_annotation
 
@@ -99,23 +100,18 @@ class BagDetector:
         self.decode = MESSAGE_DECODERS[image_type]
         self.detector = RedCanDetector(DetectorSettings.from_values(config))
         self.can_model = CanModel.from_values(config)
-        self.fallback_pose = fallback_pose(config.camera_height, config.camera_pitch_deg)
         self.tf = tf2_ros.BufferCore(rospy.Duration(3600.0))
+        self.camera_poses = CameraPoseSource.from_buffer_core(
+            self.tf, config.base_frame,
+            fallback_pose(config.camera_height, config.camera_pitch_deg))
         self.intrinsics = None
         self.video = None
         self.video_size = None
         self.skipped = {}
 
     def camera_pose(self, msg):
-        try:
-            transform = self.tf.lookup_transform_core(self.config.base_frame, msg.header.frame_id,
-                                                      rospy.Time(0)).transform
-        except (tf2_ros.TransformException, ValueError):
-            return self.fallback_pose
-        return camera_pose_from_transform(
-            (transform.translation.x, transform.translation.y, transform.translation.z),
-            (transform.rotation.x, transform.rotation.y, transform.rotation.z,
-             transform.rotation.w))
+        """The camera pose by the nodes' rule, on the bag's clock (the image stamps)."""
+        return self.camera_poses.pose(msg.header.frame_id, msg.header.stamp.to_sec())
 
     def on_image(self, msg, fps):
         """CanReport of one image message, or None when the frame cannot be read."""

@@ -18,7 +18,8 @@ from sensor_msgs.msg import Image
 
 from can_seeker.tools.closed_loop import free_port
 from can_seeker.evaluation.sim_bench import CASES, run_case
-from can_seeker.sim.world import RENDERERS, package_urdf_path
+from can_seeker.ros.paths import urdf_path
+from can_seeker.sim.world import RENDERERS
 
 STARTUP_TIMEOUT_S = 60.0
 WARM_UP_S = 2.0
@@ -91,7 +92,7 @@ def main(argv=None):
           'render + convert (ms/frame) | physics + lidar (us/step) |')
     print('|---|---|---|---|---|---|---|---|')
     for width, height, rate_hz, target, world, texture in CASES:
-        result = run_case(package_urdf_path(), args.renderer, width, height, rate_hz,
+        result = run_case(urdf_path(), args.renderer, width, height, rate_hz,
                           args.duration, world, texture)
         print('| world | %dx%d @ %g Hz | %s, %s | %s | %.2fx | >= %gx (%s) | %.1f | %.0f |'
               % (width, height, rate_hz, world, texture, result['renderer'],

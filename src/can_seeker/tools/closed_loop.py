@@ -7,10 +7,11 @@ unpaused; the monitors record from exactly that time. At the end the simulator i
 so the final state is measured on a still world.
 
 Shared by ``scripts/evaluate``, ``scripts/demo`` and the closed-loop rostests. Ground truth comes
-from the simulator: ``/sim/base_pose_ground_truth`` (true base pose; ``/odom`` is the robot's
-own estimate, which drifts with ``realism``), ``/sim/can_pose``, ``/sim/contact`` and
-``/sim/contacts`` (what was touched). In rooms and world files each trial first rebuilds the world
-from its seed (``/sim/new_world``).
+from the simulator: ``sim/base_pose_ground_truth`` (true base pose; ``odom`` is the robot's
+own estimate, which drifts with ``realism``), ``sim/can_pose``, ``sim/contact`` and
+``sim/contacts`` (what was touched). In rooms and world files each trial first rebuilds the world
+from its seed (``sim/new_world``). Topic and service names are relative: a monitor in the
+robot's namespace (``<group ns="robot1">``) watches that robot.
 """
 import os
 import signal
@@ -33,13 +34,13 @@ from can_seeker.srv import NewWorld, PlaceCan, ResetTrial
 from can_seeker.camera_geometry import yaw_from_quaternion
 from can_seeker.evaluation.trials import Contact, judge, path_length, pose_at
 
-STATE_TOPIC = '/can_stopper/state'
-TRUE_POSE_TOPIC = '/sim/base_pose_ground_truth'
-COMMAND_TOPIC = '/cmd_vel_stamped'
+STATE_TOPIC = 'can_stopper/state'
+TRUE_POSE_TOPIC = 'sim/base_pose_ground_truth'
+COMMAND_TOPIC = 'cmd_vel_stamped'
 LIVE_TIMEOUT_S = 60.0
-SERVICES = ('/sim/reset_trial', '/sim/place_can', '/sim/new_world', '/sim/pause_physics',
-            '/sim/unpause_physics',
-            '/can_stopper/reset', '/obstacle_scan/reset')
+SERVICES = ('sim/reset_trial', 'sim/place_can', 'sim/new_world', 'sim/pause_physics',
+            'sim/unpause_physics',
+            'can_stopper/reset', 'obstacle_scan/reset')
 POLL_S = 0.01
 SETTLE_S = 0.5
 """Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
@@ -164,9 +165,9 @@ class TruthMonitor:
         self.first_command_s = None
         self.subscribers = [
             rospy.Subscriber(TRUE_POSE_TOPIC, Odometry, self._on_true_pose, queue_size=None),
-            rospy.Subscriber('/sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None),
-            rospy.Subscriber('/sim/contact', Bool, self._on_contact, queue_size=None),
-            rospy.Subscriber('/sim/contacts', Contacts, self._on_contacts, queue_size=None),
+            rospy.Subscriber('sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None),
+            rospy.Subscriber('sim/contact', Bool, self._on_contact, queue_size=None),
+            rospy.Subscriber('sim/contacts', Contacts, self._on_contacts, queue_size=None),
             rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10),
             rospy.Subscriber(COMMAND_TOPIC, TwistStamped, self._on_command, queue_size=1),
         ]
@@ -268,14 +269,14 @@ class TrialRunner:
     def __init__(self, criteria):
         self.criteria = criteria
         self.monitor = TruthMonitor()
-        self.reset_trial = rospy.ServiceProxy('/sim/reset_trial', ResetTrial, persistent=True)
-        self.place_can = rospy.ServiceProxy('/sim/place_can', PlaceCan)
-        self.pause = rospy.ServiceProxy('/sim/pause_physics', Empty, persistent=True)
-        self.unpause = rospy.ServiceProxy('/sim/unpause_physics', Empty, persistent=True)
-        self.reset_controller = rospy.ServiceProxy('/can_stopper/reset', Empty, persistent=True)
-        self.reset_obstacle_scan = rospy.ServiceProxy('/obstacle_scan/reset', Empty,
+        self.reset_trial = rospy.ServiceProxy('sim/reset_trial', ResetTrial, persistent=True)
+        self.place_can = rospy.ServiceProxy('sim/place_can', PlaceCan)
+        self.pause = rospy.ServiceProxy('sim/pause_physics', Empty, persistent=True)
+        self.unpause = rospy.ServiceProxy('sim/unpause_physics', Empty, persistent=True)
+        self.reset_controller = rospy.ServiceProxy('can_stopper/reset', Empty, persistent=True)
+        self.reset_obstacle_scan = rospy.ServiceProxy('obstacle_scan/reset', Empty,
                                                       persistent=True)
-        self.new_world_service = rospy.ServiceProxy('/sim/new_world', NewWorld)
+        self.new_world_service = rospy.ServiceProxy('sim/new_world', NewWorld)
 
     def new_world(self, seed):
         """Rebuild the simulator's world from ``seed`` (paused; :meth:`run` starts the trial);
@@ -330,8 +331,9 @@ class TrialRunner:
         self.pause()
         pose, final_can, contact, path, stopped_s = self.monitor.snapshot()
         if pose is None or final_can is None:
-            raise RuntimeError('no ground truth from the simulator (%s, /sim/can_pose)'
-                               % TRUE_POSE_TOPIC)
+            raise RuntimeError('no ground truth from the simulator (%s, %s)'
+                               % (rospy.resolve_name(TRUE_POSE_TOPIC),
+                                  rospy.resolve_name('sim/can_pose')))
         time_to_stop = None if stopped_s is None else stopped_s - start_s
         with self.monitor.lock:
             contact_objects = sorted(self.monitor.contact_objects)

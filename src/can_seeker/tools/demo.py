@@ -32,7 +32,7 @@ from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.topdown import (CoverageMap, TopDownView, draw_topdown, scene_points,
                                            plot_trajectory, side_by_side)
 from can_seeker.evaluation.sweep import override_arg
-from can_seeker.evaluation.trials import Criteria
+from can_seeker.evaluation.trials import Criteria, json_ready
 from can_seeker.evaluation.video import Mp4Writer
 
 VIDEO_HEIGHT_PX = 480
@@ -178,7 +178,7 @@ def run(args):
                'success': result.success,
                'video_frames': recorder.writer.frames if video_ok else 0}
     with open(os.path.join(args.output, 'summary.json'), 'w') as output:
-        json.dump(summary, output, indent=2)
+        json.dump(json_ready(summary), output, indent=2, allow_nan=False)
     time_text = ('%.1f s' % result.time_to_stop_s if result.stopped
                  else 'not stopped within %.0f s' % args.time_limit)
     print('demo: can at (%.2f, %.2f) m; final gap %.3f m (target %.2f, error %+.1f mm), '

@@ -42,7 +42,7 @@ from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW
                                          TrialLedger, compare_runs, write_json_atomically)
 from can_seeker.evaluation.sweep import (override_arg, parse_sweep, plot_sweep,
                                          setting_label, sweep_grid, sweep_table)
-from can_seeker.evaluation.trials import Criteria, summary_table
+from can_seeker.evaluation.trials import Criteria, json_ready, summary_table
 
 SIM = defaults(SIM_PARAMS)
 CONTROL = defaults(CONTROL_PARAMS)
@@ -257,7 +257,8 @@ def run_sweep(args, engine):
     with open(os.path.join(args.sweep_output, 'sweep.md'), 'w') as output:
         output.write('%s\n\n%s\n' % (title, table))
     with open(os.path.join(args.sweep_output, 'sweep.json'), 'w') as output:
-        json.dump({'title': title, 'settings': records}, output, indent=2)
+        json.dump(json_ready({'title': title, 'settings': records}), output, indent=2,
+                  allow_nan=False)
     plot_sweep(rows, os.path.join(args.sweep_output, 'sweep.png'), title)
     print('\nevaluate sweep: %s\n%s\nwritten to %s (sweep.md, sweep.json, sweep.png)'
           % (title, table, args.sweep_output))

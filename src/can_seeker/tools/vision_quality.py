@@ -18,7 +18,8 @@ from can_seeker.control.controller import PARAMS as CONTROLLER_PARAMS
 from can_seeker.evaluation.labelled_images import (Decision, build_set, can_scores,
                                                    detector_decisions, found_scores, in_boxes)
 from can_seeker.params import defaults
-from can_seeker.sim.world import CameraSpec, World, package_urdf_path
+from can_seeker.ros.paths import urdf_path
+from can_seeker.sim.world import CameraSpec, World
 from can_seeker.vision.detector import red_blobs
 
 PREVIOUS_HSV_RANGES = (((168, 130, 50), (179, 255, 255)), ((0, 130, 50), (6, 255, 255)))
@@ -71,7 +72,7 @@ def main(argv=None):
     parser.add_argument('--list', action='store_true', help='list the images each gets wrong')
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     camera = CameraSpec(320, 240, 45.0, CameraMount(0.25, 25.0))
-    with World(package_urdf_path(), camera) as world:
+    with World(urdf_path(), camera) as world:
         images = build_set(world, camera_pose_from_mount(camera.mount), camera.intrinsics)
     photos = [image for image in images if image.pose is None]
     renders = [image for image in images if image.pose is not None]

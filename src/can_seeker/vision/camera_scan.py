@@ -22,6 +22,7 @@ import cv2
 import numpy as np
 
 from can_seeker.camera_geometry import CameraIntrinsics, CameraPose
+from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param
 from can_seeker.vision.detector import Blob, RedCanDetector
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorClassifier, FloorSettings
@@ -30,7 +31,7 @@ from can_seeker.vision.report import CanModel, rank_candidates
 SCAN_PARAMS = (
     Param('max_range', 4.0, 'obstacles standing farther than this from the scan frame origin '
           'are not reported; also caps the scan\'s range_max (m)', 0.1, 100.0),
-    Param('scan_frame', 'base_link', 'frame of the scan, on the floor with z up (REP-103); the '
+    Param('scan_frame', BASE_FRAME.default, 'frame of the scan, on the floor with z up (REP-103); the '
           'camera pose is looked up in TF from it'),
     Param('exclude_can', True, 'the red can (the red blob image_converter reports as the most '
           'can-like, with the red stacked on it, its lid, base and band) is the target, not an '

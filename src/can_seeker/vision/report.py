@@ -16,6 +16,7 @@ from typing import Optional, Sequence, Tuple
 from can_seeker.camera_geometry import (CameraPose, camera_pose_from_mount, can_image_box,
                                         can_range_bearing)
 from can_seeker.camera_mount import CameraMount
+from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param
 from can_seeker.vision.detector import DETECTOR_PARAMS, Blob
 
@@ -24,8 +25,7 @@ SIZE_PREFERENCE_EXPONENT = 0.25
 can-like blobs the larger wins, but a can-like blob beats a larger shapeless one."""
 
 PARAMS = DETECTOR_PARAMS + (
-    Param('base_frame', 'base_link', 'frame on the floor (z up) in which the camera pose is '
-          'looked up in TF for range and bearing'),
+    BASE_FRAME,
     Param('camera_height', 0.25, 'fallback height of camera_link above the floor when TF has no '
           'camera pose (m); 0 = unknown: range and bearing are NaN without TF', 0.0, 5.0),
     Param('camera_pitch_deg', 25.0, 'fallback camera pitch below the horizon when TF has no '

@@ -11,10 +11,12 @@ import time
 import diagnostic_updater
 import rospy
 
-from can_seeker.health import InputMonitor
+from can_seeker.health import WARN, InputMonitor
 
 PERIOD_S = 1.0
 ERROR_PERIOD_S = 60.0
+IMAGE_TIMEOUT_S = 1.0
+"""An image node reports the camera as missing once its newest image is this old (s)."""
 
 
 class NodeDiagnostics:
@@ -52,3 +54,15 @@ class NodeDiagnostics:
             except Exception as error:  # a failing status must not end the others
                 rospy.logerr_throttle(ERROR_PERIOD_S, 'diagnostics failed: %s: %s'
                                       % (type(error).__name__, error))
+
+
+def image_diagnostics(node_outcomes):
+    """A NodeDiagnostics with the image and camera_info inputs of an image node and its
+    ``node_outcomes`` (an Outcomes, as status 'frames'); the two InputMonitors."""
+    image = InputMonitor('image', IMAGE_TIMEOUT_S)
+    camera_info = InputMonitor('camera_info', missing_level=WARN)
+    diagnostics = NodeDiagnostics()
+    diagnostics.add('frames', node_outcomes.health)
+    diagnostics.add_input(image)
+    diagnostics.add_input(camera_info)
+    return diagnostics, image, camera_info

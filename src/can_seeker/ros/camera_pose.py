@@ -1,0 +1,102 @@
+"""The one camera-pose source of every node and tool: a sensor frame's pose in a base frame from
+TF, with one refresh and fallback rule.
+
+The rule (:class:`CameraPoseSource`):
+
+- the pose of ``frame_id`` in ``base_frame`` is looked up in TF (latest transform) at most once
+  every :data:`REFRESH_S` of the node's clock (sim time under ``use_sim_time``; a clock that
+  jumps back, as at a simulator reset, counts as elapsed time too): a sensor mount is static,
+  and a lookup per frame costs more than the geometry it feeds;
+- a failed refresh keeps the last pose TF gave (its age grows: :meth:`CameraPoseSource.age_s`);
+- until TF has given a pose at all, the pose is the ``fallback`` (from the node's mount
+  parameters; None when it has none: the caller then has no pose).
+
+Failures are warned about through ``warn`` (throttled by the caller's logger).
+"""
+from typing import Callable, Dict, Optional, Tuple
+
+import rospy
+import tf2_ros
+
+from can_seeker.camera_geometry import CameraPose, camera_pose_from_transform
+
+REFRESH_S = 1.0
+"""A pose from TF is looked up again after this long (s, the node's clock)."""
+WARN_PERIOD_S = 5.0
+
+
+def pose_from_transform(transform) -> CameraPose:
+    """The CameraPose of a geometry_msgs/Transform (base <- frame)."""
+    translation, rotation = transform.translation, transform.rotation
+    return camera_pose_from_transform((translation.x, translation.y, translation.z),
+                                      (rotation.x, rotation.y, rotation.z, rotation.w))
+
+
+class CameraPoseSource:
+    """Poses of sensor frames in ``base_frame``: ``lookup(base_frame, frame_id)`` returns a
+    geometry_msgs/Transform or raises (tf2_ros.TransformException, ValueError); see the module
+    for the refresh and fallback rule."""
+
+    def __init__(self, lookup: Callable, base_frame: str,
+                 fallback: Optional[CameraPose] = None,
+                 warn: Optional[Callable[[str], None]] = None, refresh_s: float = REFRESH_S):
+        self.lookup = lookup
+        self.base_frame = base_frame
+        self.fallback = fallback
+        self.warn = warn or (lambda message: None)
+        self.refresh_s = refresh_s
+        self.poses: Dict[str, Tuple[CameraPose, float]] = {}
+
+    @classmethod
+    def from_tf(cls, buffer, base_frame: str, fallback: Optional[CameraPose] = None,
+                name: str = 'node', refresh_s: float = REFRESH_S) -> 'CameraPoseSource':
+        """A source on a tf2_ros.Buffer (latest transforms), warning through rospy as
+        ``name``."""
+        return cls(lambda target, source: buffer.lookup_transform(
+                       target, source, rospy.Time(0)).transform,
+                   base_frame, fallback,
+                   lambda message: rospy.logwarn_throttle(WARN_PERIOD_S,
+                                                          '%s: %s' % (name, message)),
+                   refresh_s)
+
+    @classmethod
+    def from_buffer_core(cls, core, base_frame: str, fallback: Optional[CameraPose] = None,
+                         refresh_s: float = REFRESH_S) -> 'CameraPoseSource':
+        """A source on a tf2_ros.BufferCore filled by hand (a bag's TF), silent."""
+        return cls(lambda target, source: core.lookup_transform_core(
+                       target, source, rospy.Time(0)).transform,
+                   base_frame, fallback, None, refresh_s)
+
+    def pose(self, frame_id: str, now_s: float) -> Optional[CameraPose]:
+        """The pose of ``frame_id`` (a leading '/' is ignored) in the base frame at ``now_s``
+        (s, the node's clock): from TF, the last one TF gave, or the fallback."""
+        frame_id = frame_id.lstrip('/')
+        cached = self.poses.get(frame_id)
+        if cached is not None and abs(now_s - cached[1]) < self.refresh_s:
+            return cached[0]
+        try:
+            pose = pose_from_transform(self.lookup(self.base_frame, frame_id))
+        except (tf2_ros.TransformException, ValueError) as error:
+            if cached is not None:
+                self.warn('no TF %s <- %s now (%s); keeping the pose TF gave %.1f s ago'
+                          % (self.base_frame, frame_id, error, now_s - cached[1]))
+                return cached[0]
+            self.warn('no TF %s <- %s yet (%s); %s' % (
+                self.base_frame, frame_id, error,
+                'using the mount parameters' if self.fallback is not None else 'no pose'))
+            return self.fallback
+        self.poses[frame_id] = (pose, now_s)
+        return pose
+
+    def from_tf_yet(self, frame_id: str) -> bool:
+        """Whether TF has given the pose of ``frame_id`` (not the fallback)."""
+        return frame_id.lstrip('/') in self.poses
+
+    def age_s(self, frame_id: str, now_s: float) -> Optional[float]:
+        """How old the pose TF last gave for ``frame_id`` is (s), None before TF gave one."""
+        cached = self.poses.get(frame_id.lstrip('/'))
+        return None if cached is None else now_s - cached[1]
+
+    def clear(self) -> None:
+        """Forget the poses TF gave (the next :meth:`pose` looks them up again)."""
+        self.poses.clear()
