@@ -2,6 +2,7 @@
 to resume), the record in trial order written whole after every trial; and two runs of the same
 trials compared trial by trial."""
 import json
+import math
 import os
 
 import pytest
@@ -105,3 +106,34 @@ def test_compare_reports_differing_outcomes_and_missing_trials():
     assert comparison['outcome_differs'] == [0]
     assert comparison['unmatched'] == [1, 2]
     assert not comparison['repeatable']
+
+
+def strict_json(path):
+    """The file parsed as strict JSON: a bare NaN or Infinity is an error (as for jq, browsers
+    and other strict readers)."""
+    def refuse(constant):
+        raise ValueError('not JSON: %s' % constant)
+    with open(path) as stored:
+        return json.load(stored, parse_constant=refuse)
+
+
+def test_unknown_values_are_null_in_the_record_and_nan_again_on_resume(tmp_path):
+    ledger = TrialLedger(SETTINGS)
+    ledger.add(result(0, success=False), Criteria())  # never touched: first_contact_* NaN
+    ledger.add(result(1, x=float('nan')), Criteria())
+    path = str(tmp_path / 'evaluate.json')
+    write_json_atomically(path, ledger.record())
+    record = strict_json(path)
+    assert record['trials'][0]['first_contact_x_m'] is None
+    assert record['trials'][1]['final_x_m'] is None
+    resumed = TrialLedger.from_record(record, SETTINGS)
+    assert math.isnan(resumed.results()[0].first_contact_yaw_deg)
+    assert math.isnan(resumed.results()[1].final_x_m)
+    assert resumed.results()[0].time_to_stop_s is None
+
+
+
+def test_the_writer_turns_nan_into_null(tmp_path):
+    path = str(tmp_path / 'x.json')
+    write_json_atomically(path, {'pose': [1.0, float('nan'), float('inf')], 'gap_m': 0.25})
+    assert strict_json(path) == {'pose': [1.0, None, None], 'gap_m': 0.25}

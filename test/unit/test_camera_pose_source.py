@@ -1,0 +1,71 @@
+"""The one camera-pose rule (can_seeker.ros.camera_pose): refresh by the node's clock, keep the
+last TF pose when a refresh fails, the fallback only until TF gave a pose."""
+import tf2_ros
+from geometry_msgs.msg import Transform
+
+from can_seeker.camera_geometry import camera_pose_from_transform
+from can_seeker.ros.camera_pose import CameraPoseSource
+
+FALLBACK = camera_pose_from_transform((0.1, 0.0, 0.2), (0.0, 0.0, 0.0, 1.0))
+
+
+class FakeTF:
+    """lookup(base, frame): a transform at height ``z``, or LookupException while ``up`` is
+    False; counts the lookups."""
+
+    def __init__(self):
+        self.up = True
+        self.z = 0.25
+        self.calls = []
+
+    def __call__(self, base, frame):
+        self.calls.append((base, frame))
+        if not self.up:
+            raise tf2_ros.LookupException('no %s' % frame)
+        transform = Transform()
+        transform.translation.z = self.z
+        transform.rotation.w = 1.0
+        return transform
+
+
+def test_looks_up_base_from_frame_and_refreshes_once_a_period():
+    tf = FakeTF()
+    source = CameraPoseSource(tf, 'robot1/base_link', FALLBACK, refresh_s=1.0)
+    assert source.pose('/robot1/camera_optical_frame', 10.0).height_m == 0.25
+    assert tf.calls == [('robot1/base_link', 'robot1/camera_optical_frame')]
+    tf.z = 0.3
+    assert source.pose('robot1/camera_optical_frame', 10.9).height_m == 0.25
+    assert len(tf.calls) == 1
+    assert source.pose('robot1/camera_optical_frame', 11.0).height_m == 0.3
+    assert source.age_s('robot1/camera_optical_frame', 11.5) == 0.5
+
+
+def test_a_clock_that_jumps_back_counts_as_elapsed():
+    tf = FakeTF()
+    source = CameraPoseSource(tf, 'base_link', refresh_s=1.0)
+    source.pose('camera', 50.0)
+    source.pose('camera', 2.0)  # a simulator reset
+    assert len(tf.calls) == 2
+
+
+def test_fallback_until_tf_gives_a_pose_then_the_last_tf_pose_is_kept():
+    tf = FakeTF()
+    tf.up = False
+    warnings = []
+    source = CameraPoseSource(tf, 'base_link', FALLBACK, warnings.append, refresh_s=1.0)
+    assert source.pose('camera', 0.0) is FALLBACK
+    assert not source.from_tf_yet('camera') and source.age_s('camera', 0.0) is None
+    tf.up = True
+    pose = source.pose('camera', 0.1)
+    assert pose.height_m == 0.25 and source.from_tf_yet('camera')
+    tf.up = False
+    assert source.pose('camera', 5.0) is pose
+    assert source.age_s('camera', 5.0) == 4.9
+    assert 'mount parameters' in warnings[0] and 'keeping the pose' in warnings[-1]
+
+
+def test_without_a_fallback_there_is_no_pose_until_tf_has_one():
+    tf = FakeTF()
+    tf.up = False
+    source = CameraPoseSource(tf, 'base_link')
+    assert source.pose('base_scan', 0.0) is None
