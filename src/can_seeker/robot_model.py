@@ -5,12 +5,14 @@ simulator loads, and robot_description holds, that file with the actual mount ap
 :func:`robot_urdf`: the ``camera_joint`` origin is the :class:`CameraMount`'s own translation and
 rotation (the same values the simulator renders from and broadcasts as TF), the
 ``camera_optical_joint`` rotation is :data:`OPTICAL_IN_CAMERA_LINK_XYZW` and the mast under the
-camera (the base_link visual named ``camera_mast``) reaches up to the camera. No rospy here.
+camera (the base_link visual named ``camera_mast``) reaches up to the camera. Links can be
+renamed to the frames the nodes use (``~base_frame``, ``~camera_frame``, ``~optical_frame``) and
+the others prefixed (``robot1/left_wheel``). No rospy here.
 """
 import math
 import re
 import xml.etree.ElementTree as ET
-from typing import Sequence, Tuple
+from typing import Mapping, Optional, Sequence, Tuple
 
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
 
@@ -75,8 +77,24 @@ def apply_mount(robot: ET.Element, mount: CameraMount):
     cylinder.set('length', _numbers((top_m - bottom_m,)))
 
 
-def robot_urdf(template: str, mount: CameraMount) -> str:
-    """The URDF text ``template`` (the robot at any camera mount) with ``mount`` applied.
+def rename_links(robot: ET.Element, names: Mapping[str, str], prefix: str = ''):
+    """Rename links in place: those in ``names`` to their value, every other one to ``prefix``
+    + its name; the joints' parent and child follow."""
+    def new_name(name):
+        return names.get(name, prefix + name)
+    for link in robot.iter('link'):
+        link.set('name', new_name(link.get('name')))
+    for joint in robot.iter('joint'):
+        for end in ('parent', 'child'):
+            element = joint.find(end)
+            element.set('link', new_name(element.get('link')))
+
+
+def robot_urdf(template: str, mount: CameraMount, link_names: Optional[Mapping[str, str]] = None,
+               link_prefix: str = '') -> str:
+    """The URDF text ``template`` (the robot at any camera mount) with ``mount`` applied and
+    its links renamed (:func:`rename_links`: ``link_names`` such as {'base_link':
+    'robot1/base_link'}, ``link_prefix`` for the links not in it).
 
     Comments and every other element are kept; raises ValueError when the template has no
     camera joints.
@@ -84,6 +102,8 @@ def robot_urdf(template: str, mount: CameraMount) -> str:
     parser = ET.XMLParser(target=ET.TreeBuilder(insert_comments=True))
     robot = ET.fromstring(template, parser=parser)
     apply_mount(robot, mount)
+    if link_names or link_prefix:
+        rename_links(robot, link_names or {}, link_prefix)
     start = re.search(r'<robot[\s>]', template)
     head = template[:start.start()] if start else '<?xml version="1.0"?>\n'
     return head + ET.tostring(robot, encoding='unicode') + '\n'

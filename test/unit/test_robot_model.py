@@ -147,3 +147,27 @@ def test_simulator_loads_the_robot_with_its_mount(mount):
         position, rotation = world.camera_pose()
         assert state[4] == pytest.approx(tuple(position), abs=1e-6)
         assert np.allclose(quaternion_matrix(*state[5]), rotation, atol=1e-6)
+
+
+def test_links_take_the_frame_names_and_the_prefix():
+    names = {'base_link': 'robot1/base', 'camera_link': 'robot1/cam',
+             'camera_optical_frame': 'robot1/cam_optical'}
+    robot = ET.fromstring(robot_urdf(TEMPLATE, CameraMount(0.3, 20.0), names, 'robot1/'))
+    links = {link.get('name') for link in robot.iter('link')}
+    assert links == {'robot1/base', 'robot1/cam', 'robot1/cam_optical', 'robot1/left_wheel',
+                     'robot1/right_wheel', 'robot1/front_caster', 'robot1/rear_caster'}
+    ends = {end.get('link') for joint in robot.iter('joint') for end in joint
+            if end.tag in ('parent', 'child')}
+    assert ends == links
+    xyz, _ = joint_origin(robot, 'camera_joint')
+    assert xyz == pytest.approx([0.12, 0.0, 0.3])
+    assert mast(ET.fromstring(robot_urdf(TEMPLATE, CameraMount(0.3, 20.0)))) is not None
+    assert robot.find("link[@name='robot1/base']/visual[@name='camera_mast']") is not None
+
+
+def test_tool_names_the_links():
+    out, _ = run_tool('--base-frame', 'r/base_link', '--camera-frame', 'r/camera_link',
+                      '--optical-frame', 'r/camera_optical_frame', '--link-prefix', 'r/')
+    assert out == robot_urdf(TEMPLATE, CameraMount(0.25, 25.0),
+                             {'base_link': 'r/base_link', 'camera_link': 'r/camera_link',
+                              'camera_optical_frame': 'r/camera_optical_frame'}, 'r/')

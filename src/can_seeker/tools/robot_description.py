@@ -4,13 +4,16 @@
 ``urdf/can_seeker_robot.urdf`` with that mount applied (:mod:`can_seeker.robot_model`), the model
 the simulator loads for the same ``~camera_height`` and ``~camera_pitch_deg``. Invalid values are
 replaced by their defaults with a warning on standard error, as the simulator does. Launch files
-set the parameter with it: ``<param name="robot_description" command="...">``.
+set the parameter with it: ``<param name="robot_description" command="...">``. ``--base-frame``,
+``--camera-frame`` and ``--optical-frame`` name the links of those frames as the simulator's
+parameters do; ``--link-prefix`` goes before the names of the other links (wheels, casters).
 """
 import argparse
 import os
 import sys
 
 from can_seeker.camera_mount import MOUNT_PARAMS, mount_from_params
+from can_seeker.frames import BASE_FRAME, CAMERA_FRAME, OPTICAL_FRAME
 from can_seeker.robot_model import robot_urdf
 
 
@@ -24,6 +27,11 @@ def main(argv=None):
     for spec in MOUNT_PARAMS:
         parser.add_argument('--' + spec.name.replace('_', '-'), default=spec.default,
                             help='%s; default %s' % (spec.description, spec.default))
+    for spec in (BASE_FRAME, CAMERA_FRAME, OPTICAL_FRAME):
+        parser.add_argument('--' + spec.name.replace('_', '-'), default=spec.default,
+                            help='name of the link %s (%s)' % (spec.default, spec.doc))
+    parser.add_argument('--link-prefix', default='', help='prefix of the other links\' names '
+                        '(wheels, casters), e.g. robot1/')
     parser.add_argument('--template', help="the robot's URDF at the default mount; default: "
                         'urdf/can_seeker_robot.urdf of the can_seeker package')
     args = parser.parse_args(argv)
@@ -31,4 +39,7 @@ def main(argv=None):
     mount = mount_from_params(lambda name, default: values.get(name.lstrip('~'), default),
                               lambda text: print('robot_description: ' + text, file=sys.stderr))
     with open(args.template or package_template()) as template:
-        sys.stdout.write(robot_urdf(template.read(), mount))
+        sys.stdout.write(robot_urdf(
+            template.read(), mount,
+            {spec.default: values[spec.name] for spec in (BASE_FRAME, CAMERA_FRAME, OPTICAL_FRAME)},
+            args.link_prefix))
