@@ -5,6 +5,7 @@ is its optical frame (z forward, x right, y down). The URDF holds the default mo
 :mod:`can_seeker.robot_model` applies another one.
 """
 import math
+import random
 from dataclasses import dataclass
 from typing import Any, Callable, Tuple
 
@@ -35,6 +36,21 @@ class CameraMount:
         """camera_link orientation in base_link: a positive rotation about y tilts x downward."""
         half_rad = math.radians(self.pitch_deg) / 2.0
         return (0.0, math.sin(half_rad), 0.0, math.cos(half_rad))
+
+
+RANDOM_HEIGHT_RANGE_M = (0.15, 0.35)
+"""Heights a random mount is drawn from (m): a small base's deck to a mast."""
+RANDOM_PITCH_RANGE_DEG = (15.0, 35.0)
+"""Pitches a random mount is drawn from (deg below the horizon)."""
+
+
+def random_mount(seed: int) -> CameraMount:
+    """A camera mount drawn uniformly from RANDOM_HEIGHT_RANGE_M and RANDOM_PITCH_RANGE_DEG by
+    ``seed``, from a random stream of its own (a world's geometry and looks are the same
+    whether its mount is drawn or not)."""
+    generator = random.Random('camera mount %d' % seed)
+    return CameraMount(round(generator.uniform(*RANDOM_HEIGHT_RANGE_M), 4),
+                       round(generator.uniform(*RANDOM_PITCH_RANGE_DEG), 3))
 
 
 MOUNT_PARAMS = (

@@ -9,8 +9,10 @@ import pytest
 from can_seeker.params import read_params
 from can_seeker.sim.scene import CAN_HEIGHT_M, CAN_RADIUS_M, Solid
 from can_seeker.sim.simulation import (MIN_CAN_CLEARANCE_M, PARAMS, RateSchedule, Simulation,
-                                       camera_spec, checked_config, parse_rgba,
+                                       camera_spec, checked_config, mount_for, parse_rgba,
                                        random_can_position, scene_for)
+from can_seeker.camera_mount import (RANDOM_HEIGHT_RANGE_M, RANDOM_PITCH_RANGE_DEG, CameraMount,
+                                     random_mount)
 from can_seeker.sim.world import World
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
@@ -98,6 +100,21 @@ def test_camera_spec_from_parameters():
     assert (spec.width, spec.height) == (640, 480)
     assert (spec.mount.height_m, spec.mount.pitch_deg) == (0.3, 20.0)
     assert spec.intrinsics.fx == pytest.approx(579.411, abs=1e-3)
+
+
+def test_random_mounts_are_repeatable_spread_over_the_ranges_and_apart_from_the_scene():
+    mounts = [random_mount(seed) for seed in range(200)]
+    assert mounts == [random_mount(seed) for seed in range(200)]
+    heights = np.array([mount.height_m for mount in mounts])
+    pitches = np.array([mount.pitch_deg for mount in mounts])
+    assert RANDOM_HEIGHT_RANGE_M[0] <= heights.min() < 0.17 and 0.33 < heights.max() <= 0.35
+    assert RANDOM_PITCH_RANGE_DEG[0] <= pitches.min() < 17.0 and 33.0 < pitches.max() <= 35.0
+    fixed, _ = config_with(world='room', seed=5)
+    drawn, _ = config_with(world='room', seed=5, randomize_mount=True)
+    assert camera_spec(fixed).mount == CameraMount(0.25, 25.0)
+    assert camera_spec(drawn).mount == random_mount(5) == mount_for(drawn, 5)
+    assert mount_for(fixed, 5) == CameraMount(0.25, 25.0)
+    assert scene_for(fixed, 9, print) == scene_for(drawn, 9, print)
 
 
 def test_rate_schedule_divides_the_physics_rate():

@@ -213,3 +213,22 @@ def test_a_checker_floor_shows_both_colours_in_1_m_squares(world):
     assert np.abs(left - light_bgr).max() < 20 and np.abs(right - dark_bgr).max() < 20
     texture = checker_image(dark, light)
     assert tuple(texture[0, 0]) == dark_bgr and tuple(texture[0, -1]) == light_bgr
+
+
+def test_a_new_mount_moves_the_camera_and_its_images(world):
+    """The can projects where the new mount's camera sees it (a world per trial may draw one)."""
+    default = world.camera
+    world.set_mount(CameraMount(0.33, 34.0))
+    try:
+        assert world.camera.mount == CameraMount(0.33, 34.0)
+        position, _ = world.camera_pose()
+        assert position[2] == pytest.approx(0.33, abs=1e-3)
+        world.place_can(0.9, 0.2)
+        world.step()
+        rows, columns = np.nonzero(red_pixels(world.render('bgr8')))
+        u, v = project((0.9, 0.2, CAN_HEIGHT_M / 2.0), world.camera)
+        assert columns.mean() == pytest.approx(u, abs=1.5)
+        assert rows.mean() == pytest.approx(v, abs=1.5)
+        assert abs(v - project((0.9, 0.2, CAN_HEIGHT_M / 2.0), default)[1]) > 5.0
+    finally:
+        world.set_mount(default.mount)

@@ -40,7 +40,7 @@ from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import camera_info, odometry, transform_stamped
 from can_seeker.ros.paths import urdf_path, worlds_dir
 from can_seeker.sim.simulation import (PARAMS, Simulation, camera_spec, can_visible_from_start,
-                                       checked_config, scene_for)
+                                       checked_config, mount_for, scene_for)
 from can_seeker.sim.status import RunStatus
 from can_seeker.srv import (NewWorld, NewWorldResponse, PlaceCan, PlaceCanResponse, ResetTrial,
                             ResetTrialResponse)
@@ -106,15 +106,7 @@ class SimNode:
         self._tf_broadcaster = tf2_ros.TransformBroadcaster()
         self._static_broadcaster = tf2_ros.StaticTransformBroadcaster()
         self._publish_clock()
-        stamp = rospy.Time.from_sec(self._sim.time_s)
-        self._static_broadcaster.sendTransform([
-            transform_stamped(stamp, config.base_frame, config.camera_frame,
-                              spec.mount.translation_m, spec.mount.rotation_xyzw),
-            transform_stamped(stamp, config.camera_frame, config.optical_frame, (0.0, 0.0, 0.0),
-                              OPTICAL_IN_CAMERA_LINK_XYZW),
-            transform_stamped(stamp, config.base_frame, config.lidar_frame,
-                              (0.0, 0.0, config.scan_height), (0.0, 0.0, 0.0, 1.0)),
-        ])
+        self._publish_static_tf()
         self._publish_world()
         self._frames = 0
         self._run_status = RunStatus()
@@ -243,10 +235,27 @@ class SimNode:
             rospy.logerr_throttle(ERROR_THROTTLE_S, 'sim: place_can: %s' % message)
         return PlaceCanResponse(success, message)
 
+    def _publish_static_tf(self):
+        """base_link -> camera_link (the world's mount) -> camera_optical_frame, and the lidar
+        (latched, all in one message: a later one replaces it)."""
+        config, mount = self._config, self._sim.world.camera.mount
+        stamp = rospy.Time.from_sec(self._sim.time_s)
+        self._static_broadcaster.sendTransform([
+            transform_stamped(stamp, config.base_frame, config.camera_frame,
+                              mount.translation_m, mount.rotation_xyzw),
+            transform_stamped(stamp, config.camera_frame, config.optical_frame, (0.0, 0.0, 0.0),
+                              OPTICAL_IN_CAMERA_LINK_XYZW),
+            transform_stamped(stamp, config.base_frame, config.lidar_frame,
+                              (0.0, 0.0, config.scan_height), (0.0, 0.0, 0.0, 1.0)),
+        ])
+
     def _on_new_world(self, request):
         scene = scene_for(self._config, request.seed, rospy.logwarn)
 
         def rebuild():
+            if self._config.randomize_mount:
+                self._sim.world.set_mount(mount_for(self._config, request.seed))
+                self._publish_static_tf()
             self._sim.set_scene(scene, request.seed)
             self._reset_s = self._sim.time_s
             self._publish_world()

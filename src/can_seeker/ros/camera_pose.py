@@ -3,10 +3,11 @@ TF, with one refresh and fallback rule.
 
 The rule (:class:`CameraPoseSource`):
 
-- the pose of ``frame_id`` in ``base_frame`` is looked up in TF (latest transform) at most once
-  every :data:`REFRESH_S` of the node's clock (sim time under ``use_sim_time``; a clock that
-  jumps back, as at a simulator reset, counts as elapsed time too): a sensor mount is static,
-  and a lookup per frame costs more than the geometry it feeds;
+- the pose of ``frame_id`` in ``base_frame`` is looked up in TF (latest transform) for every
+  frame (:data:`REFRESH_S` 0; a larger one reuses a pose for that long of the node's clock, a
+  clock that jumps back counting as elapsed time too): a lookup costs a few microseconds, and
+  a mount that changes (a simulator drawing one per world, a pan-tilt unit) is followed at
+  once;
 - a failed refresh keeps the last pose TF gave (its age grows: :meth:`CameraPoseSource.age_s`);
 - until TF has given a pose at all, the pose is the ``fallback`` (from the node's mount
   parameters; None when it has none: the caller then has no pose).
@@ -20,8 +21,8 @@ import tf2_ros
 
 from can_seeker.camera_geometry import CameraPose, camera_pose_from_transform
 
-REFRESH_S = 1.0
-"""A pose from TF is looked up again after this long (s, the node's clock)."""
+REFRESH_S = 0.0
+"""A pose from TF is looked up again after this long (s, the node's clock): every frame."""
 WARN_PERIOD_S = 5.0
 
 

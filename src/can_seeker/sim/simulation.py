@@ -16,7 +16,7 @@ import numpy as np
 import yaml
 
 from can_seeker.camera_geometry import camera_pose_from_mount
-from can_seeker.camera_mount import MOUNT_PARAMS, CameraMount
+from can_seeker.camera_mount import MOUNT_PARAMS, CameraMount, random_mount
 from can_seeker.sim.drive import CommandWatchdog, TwistLimiter
 from can_seeker.frames import SIM_FRAME_PARAMS
 from can_seeker.params import Param
@@ -87,6 +87,10 @@ PARAMS = (
           '/sim/new_world) instead of ~floor_rgba, ~wall_rgba and ~obstacle_rgba: light and '
           'dark, some hardly standing out from the floor, never red; a world file\'s colours '
           'still win'),
+    Param('randomize_mount', False, 'draw the camera mount of each world from its seed (~seed, '
+          '/sim/new_world): height 0.15-0.35 m, pitch 15-35 deg down, instead of '
+          '~camera_height and ~camera_pitch_deg; TF base_link -> camera_link follows (the '
+          'robot model on robot_description keeps the parameters\' mount)'),
     Param('scan_rate', 10.0, 'rate of the simulated lidar /scan (Hz, sim time); 0 turns it '
           'off', 0.0, 240.0),
     Param('scan_beams', 360, 'beams of the lidar over 360 deg', 8, 4096),
@@ -289,9 +293,17 @@ def can_visible_from_start(scene: Scene, camera: CameraSpec) -> bool:
 
 
 def camera_spec(config: SimpleNamespace) -> CameraSpec:
-    """The camera described by the parameters."""
-    return CameraSpec(config.width, config.height, config.fov_deg,
-                      CameraMount(config.camera_height, config.camera_pitch_deg))
+    """The camera described by the parameters (the mount of ``~seed``'s world when
+    ``randomize_mount``)."""
+    return CameraSpec(config.width, config.height, config.fov_deg, mount_for(config, config.seed))
+
+
+def mount_for(config: SimpleNamespace, seed: int) -> CameraMount:
+    """The camera mount of the world of ``seed``: drawn from it when ``randomize_mount``, else
+    the parameters' one."""
+    if config.randomize_mount:
+        return random_mount(seed)
+    return CameraMount(config.camera_height, config.camera_pitch_deg)
 
 
 class RateSchedule:

@@ -11,7 +11,7 @@ import importlib.util
 import os
 import shutil
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import FrozenSet, Optional, Sequence, Tuple
 
 import cv2
@@ -409,6 +409,10 @@ class World:
         starts, ends = lidar.rays(state.position[0], state.position[1], state.yaw_rad)
         hits = self._client.rayTestBatch(starts.tolist(), ends.tolist())
         return lidar.ranges([hit[2] if hit[0] >= 0 else 1.0 for hit in hits])
+
+    def set_mount(self, mount: CameraMount) -> None:
+        """Move the camera to ``mount`` (the images follow; the robot's body keeps its look)."""
+        self.camera = replace(self.camera, mount=mount)
 
     def camera_pose(self) -> Tuple[np.ndarray, np.ndarray]:
         """camera_link position (m) and rotation matrix (columns x forward, y left, z up), world."""

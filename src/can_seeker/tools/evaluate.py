@@ -6,7 +6,8 @@ and the controller are reset through their services. Each trial rebuilds the wor
 (trial i uses seed + i, so ``--seed S+i --trials 1`` repeats it): in the empty world the can
 stands at a random bearing and distance, in a room (``--world room``) the obstacles and the can
 are drawn anew, in a world file the can is drawn unless the file places it; with
-``--randomize-appearance`` the floor, wall and obstacle colours are drawn from the seed too.
+``--randomize-appearance`` the floor, wall and obstacle colours are drawn from the seed too,
+with ``--randomize-mount`` the camera's height (0.15-0.35 m) and pitch (15-35 deg).
 ``--scan-topics "/camera_scan /scan"`` lets can_stopper fuse the camera scan and the lidar.
 Prints a progress bar, then a summary table; ``--json FILE`` writes every trial and the summary,
 again after each finished trial, and ``--resume`` runs only the trials that file is missing.
@@ -33,6 +34,7 @@ import sys
 import rospy
 
 from can_seeker.tools.engine import Engine, SystemSpec, run_missing
+from can_seeker.camera_mount import RANDOM_HEIGHT_RANGE_M, RANDOM_PITCH_RANGE_DEG
 from can_seeker.params import defaults
 from can_seeker.control.controller import PARAMS as CONTROL_PARAMS
 from can_seeker.sim.realism import REALISM_PRESETS
@@ -92,6 +94,10 @@ def parse_args(argv):
                         help='draw the floor (plain or checkered, light or dark), wall and '
                         'obstacle colours of each trial from its seed, instead of the '
                         '--floor-rgba, --wall-rgba and --obstacle-rgba colours')
+    parser.add_argument('--randomize-mount', action='store_true',
+                        help='draw the camera mount of each trial from its seed: height '
+                        '0.15-0.35 m, pitch 15-35 deg, instead of --camera-height and '
+                        '--camera-pitch')
     parser.add_argument('--realism', default=SIM.realism, choices=REALISM_PRESETS,
                         help='sensor and actuator realism of the simulator')
     parser.add_argument('--param', action='append', default=[], type=override_arg,
@@ -172,7 +178,8 @@ def launch_args(args):
             'wall_rgba': args.wall_rgba, 'obstacle_rgba': args.obstacle_rgba,
             'can_texture': args.can_texture, 'realism': args.realism,
             'scan_topics': args.scan_topics, 'lockstep': str(args.lockstep).lower(),
-            'randomize_appearance': str(args.randomize_appearance).lower()}
+            'randomize_appearance': str(args.randomize_appearance).lower(),
+            'randomize_mount': str(args.randomize_mount).lower()}
 
 
 def settings(args):
@@ -180,7 +187,7 @@ def settings(args):
     record = {name: getattr(args, name) for name in (
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
         'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep',
-        'randomize_appearance') + WORLD_OPTIONS + CONTROL_OPTIONS}
+        'randomize_appearance', 'randomize_mount') + WORLD_OPTIONS + CONTROL_OPTIONS}
     record['params'] = dict(args.param)
     return record
 
@@ -290,13 +297,18 @@ def main():
               % len(ledger.results()), file=sys.stderr)
     results, record_settings = ledger.results(), ledger.settings
     summary = ledger.summary()
-    print('\nevaluate: %d trials, %s world%s, can %.1f-%.1f m, %dx%d, camera %.2f m / %.1f deg, '
+    if record_settings.get('randomize_mount'):
+        camera = 'camera mount drawn per trial (%.2f-%.2f m / %.0f-%.0f deg)' % (
+            *RANDOM_HEIGHT_RANGE_M, *RANDOM_PITCH_RANGE_DEG)
+    else:
+        camera = 'camera %.2f m / %.1f deg' % (record_settings['camera_height'],
+                                               record_settings['camera_pitch'])
+    print('\nevaluate: %d trials, %s world%s, can %.1f-%.1f m, %dx%d, %s, '
           'can %s %s, scan %s, realism %s' % (len(results), _world_text(record_settings),
                       ' with colours drawn per trial'
                       if record_settings.get('randomize_appearance') else '',
                       record_settings['min_distance'], record_settings['max_distance'],
-                      record_settings['width'], record_settings['height'],
-                      record_settings['camera_height'], record_settings['camera_pitch'],
+                      record_settings['width'], record_settings['height'], camera,
                       record_settings.get('can_texture', 'plain'),
                       record_settings['can_rgba'], record_settings.get('scan_topics') or 'none',
                       record_settings.get('realism', 'ideal')))
