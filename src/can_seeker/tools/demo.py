@@ -84,8 +84,8 @@ class VideoRecorder:
         self.lock = threading.Lock()
         self.closed = False
         self.coverage = None
-        rospy.Subscriber('/can_stopper/coverage', OccupancyGrid, self.on_coverage, queue_size=1)
-        rospy.Subscriber('/image_converter/annotated', Image, self.on_image, queue_size=5,
+        rospy.Subscriber('can_stopper/coverage', OccupancyGrid, self.on_coverage, queue_size=1)
+        rospy.Subscriber('image_converter/annotated', Image, self.on_image, queue_size=5,
                          buff_size=2 ** 24)
 
     def on_coverage(self, grid):
@@ -143,19 +143,19 @@ def run(args):
                         params=dict(args.param)) as system:
         rospy.init_node('demo', disable_signals=True)
         system.wait_for_services()
-        criteria = Criteria(stop_distance_m=rospy.get_param('/can_stopper/stop_distance'),
+        criteria = Criteria(stop_distance_m=rospy.get_param('can_stopper/stop_distance'),
                             time_limit_s=args.time_limit)
         runner = TrialRunner(criteria)
         can_xy, visible = runner.new_world(seed)
         scene = scene_from_dict(yaml.safe_load(
-            rospy.wait_for_message('/sim/world', String, timeout=30.0).data))
+            rospy.wait_for_message('sim/world', String, timeout=30.0).data))
         print('demo: %s world, %d obstacles; the can at (%.2f, %.2f) is %s from the start'
               % (args.world, len(scene.obstacles), can_xy[0], can_xy[1],
                  'in view' if visible else 'not in view'))
         view = TopDownView.framing([(0.0, 0.0), can_xy] + scene_points(scene), VIDEO_HEIGHT_PX,
                                    VIEW_MARGIN_M)
         recorder = VideoRecorder(os.path.join(args.output, 'demo.mp4'),
-                                 rospy.get_param('/sim/camera_rate'), runner.monitor, view,
+                                 rospy.get_param('sim/camera_rate'), runner.monitor, view,
                                  criteria, scene)
         result = runner.run(0, can_xy, visible)
         video_ok = recorder.close()

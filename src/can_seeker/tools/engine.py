@@ -89,7 +89,7 @@ class WorkerSystem:
         self.launch.__enter__()
         rospy.init_node('evaluate', disable_signals=True)
         self.launch.wait_for_services()
-        self.criteria = Criteria(stop_distance_m=rospy.get_param('/can_stopper/stop_distance'),
+        self.criteria = Criteria(stop_distance_m=rospy.get_param('can_stopper/stop_distance'),
                                  time_limit_s=spec.time_limit_s)
         self.runner = TrialRunner(self.criteria)
 
