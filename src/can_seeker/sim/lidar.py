@@ -1,16 +1,14 @@
 """A planar 360-degree lidar on the robot: its beams as rays and their hits as LaserScan ranges.
 
-The sensor frame (``base_scan``) sits ``height_m`` above base_link with the same axes; beam i
-points at angle_min + i * angle_increment about z, counter-clockwise from x (REP-103), starting
-at -pi. Ranges follow REP-117: a beam that hits nothing within range_max reads +inf.
+The sensor frame (the simulator's ``~lidar_frame``, ``base_scan`` by default) sits ``height_m``
+above base_link with the same axes; beam i points at angle_min + i * angle_increment about z,
+counter-clockwise from x (REP-103), starting at -pi. Ranges follow REP-117: a beam that hits nothing within range_max reads +inf.
 """
 import math
 from dataclasses import dataclass
 from typing import Tuple
 
 import numpy as np
-
-FRAME = 'base_scan'
 
 
 @dataclass(frozen=True)
