@@ -2,7 +2,8 @@
 
 The sensor frame (the simulator's ``~lidar_frame``, ``base_scan`` by default) sits ``height_m``
 above base_link with the same axes; beam i points at angle_min + i * angle_increment about z,
-counter-clockwise from x (REP-103), starting at -pi. Ranges follow REP-117: a beam that hits nothing within range_max reads +inf.
+counter-clockwise from x (REP-103), starting at -pi. Ranges follow REP-117: a beam that hits
+nothing within range_max reads +inf.
 """
 import math
 from dataclasses import dataclass
