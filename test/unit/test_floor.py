@@ -160,3 +160,27 @@ def test_a_pale_floor_colour_across_the_grey_boundary_is_floor_a_coloured_box_is
     assert tile_found < 0.01
     assert box_found > 0.98
     assert false_rate < 0.002
+
+
+def reference_colour_gradient(bgr):
+    """The colour gradient as first written: float32 Sobel of the blurred image, magnitude and
+    channel maximum over the whole image."""
+    import cv2
+    blurred = cv2.GaussianBlur(bgr, (5, 5), 0).astype(np.float32)
+    gradient_x = cv2.Sobel(blurred, cv2.CV_32F, 1, 0, ksize=3, scale=0.125)
+    gradient_y = cv2.Sobel(blurred, cv2.CV_32F, 0, 1, ksize=3, scale=0.125)
+    return np.sqrt(gradient_x * gradient_x + gradient_y * gradient_y).max(axis=2)
+
+
+@pytest.mark.parametrize('seed', range(5))
+def test_colour_gradient_is_bit_for_bit_the_float_computation(seed):
+    import cv2
+    from can_seeker.vision.floor import colour_gradient
+    rng = np.random.default_rng(seed)
+    bgr = cv2.GaussianBlur(rng.integers(0, 256, (HEIGHT, WIDTH, 3), dtype=np.uint8), (0, 0),
+                           0.5 + seed)
+    bgr[BOX[1]:BOX[3], BOX[0]:BOX[2]] = 255 * (seed % 2)
+    where = rng.random((HEIGHT, WIDTH)) < 0.1
+    reference = reference_colour_gradient(bgr)
+    assert np.array_equal(colour_gradient(bgr), reference)
+    assert np.array_equal(colour_gradient(bgr, where), reference[where])
