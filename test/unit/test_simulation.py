@@ -169,6 +169,21 @@ def test_frames_and_state_come_at_their_rates(sim):
     assert frames[1].time_s - frames[0].time_s == pytest.approx(1.0 / 15.0)
 
 
+def test_clock_ticks_every_step_by_default_else_at_its_rate_and_with_every_message(sim):
+    assert all(sim.step().clock_due for _ in range(48))
+    config, _ = config_with(width=64, height=48, renderer='tiny', clock_rate=20.0)
+    with World(URDF, camera_spec(config), renderer='tiny') as world:
+        sparse = Simulation.from_config(world, config)
+        results = [sparse.step() for _ in range(240)]
+    ticks = [result for result in results if result.clock_due]
+    messages = [result for result in results if result.image is not None
+                or result.state_due or result.scan is not None]
+    assert set(map(id, messages)) <= set(map(id, ticks))
+    assert len(messages) < len(ticks) < 100
+    assert sum(1 for step, result in enumerate(results, 1) if step % 12 == 0
+               and result.clock_due) == 20
+
+
 def test_a_stale_command_brakes_the_robot(sim):
     sim.command(0.2, 0.0)
     stopped_s = None

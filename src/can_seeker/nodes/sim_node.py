@@ -1,17 +1,17 @@
 """ROS node ``sim``: the pybullet world as a camera robot with a lidar on a floor (in an empty
 world, a room with obstacles or a world file) with a soda can.
 
-Publishes /clock (every physics step), /camera/image_raw + /camera/camera_info (same stamp: the
-sim time the frame was captured; with ~realism, published later and as a real camera sees it),
-/scan (the lidar), /odom and TF odom->base_link (the true pose at ~realism ideal, else wheel
-odometry that drifts), static TF base_link->camera_link->camera_optical_frame from the actual
-camera parameters and base_link->base_scan (each frame name a parameter: ``~base_frame``,
-``~odom_frame``, ``~camera_frame``, ``~optical_frame``, ``~lidar_frame``), and ground truth in
-``~world_frame``:
+Publishes /clock (every physics step, or at ~clock_rate and with every other message),
+/camera/image_raw + /camera/camera_info (same stamp: the sim time the frame was captured; with
+~realism, published later and as a real camera sees it), /scan (the lidar), /odom and TF
+odom->base_link (the true pose at ~realism ideal, else wheel odometry that drifts), static TF
+base_link->camera_link->camera_optical_frame from the actual camera parameters and
+base_link->base_scan (each frame name a parameter: ``~base_frame``, ``~odom_frame``,
+``~camera_frame``, ``~optical_frame``, ``~lidar_frame``), and ground truth in ``~world_frame``:
 /sim/base_pose_ground_truth (the true pose and twist), /sim/can_pose, /sim/contact and
-/sim/contacts (whether and what the robot touched at any physics step since the previous
-message) and /sim/world (latched: the scene in the world-file format), and /diagnostics (sim
-time and pace, lockstep time-outs, the age and rate of the commands).
+/sim/contacts (whether and what the robot touched at any physics step since the previous message)
+and /sim/world (latched: the scene in the world-file format), and /diagnostics (sim time and pace,
+lockstep time-outs, the age and rate of the commands).
 Subscribes /cmd_vel, or in lockstep cmd_vel_stamped. Services /sim/reset, /sim/reset_trial,
 /sim/place_can, /sim/new_world, /sim/pause_physics and /sim/unpause_physics run on the simulation
 thread between physics steps (in lockstep, after the current frame was answered).
@@ -352,7 +352,8 @@ class SimNode:
                 wall_start_s, sim_start_s = time.monotonic(), self._sim.time_s
                 continue
             result = self._sim.step()
-            self._publish_clock()
+            if result.clock_due:
+                self._publish_clock()
             stamp = rospy.Time.from_sec(result.time_s)
             if result.scan is not None:
                 self._publish_scan(result.scan, stamp)

@@ -51,7 +51,10 @@ PARAMS = (
     Param('camera_rate', 15.0, 'camera frame rate (Hz, sim time)', 0.1, 240.0),
     *MOUNT_PARAMS,
     Param('physics_rate', 240.0, 'physics steps per second of sim time (Hz); /clock ticks at '
-          'every step', 60.0, 2000.0),
+          'every step unless ~clock_rate is set', 60.0, 2000.0),
+    Param('clock_rate', 0.0, 'rate of /clock (Hz, sim time; 0: at every physics step); /clock '
+          'also ticks at every step that publishes a frame, a scan or the state, so no message '
+          'is stamped ahead of it', 0.0, 2000.0),
     Param('state_rate', 50.0, 'rate of /odom, TF odom->base_link, /sim/can_pose and /sim/contact '
           '(Hz, sim time)', 1.0, 1000.0),
     Param('real_time_factor', 1.0, 'sim seconds per wall-clock second; 0 runs as fast as '
@@ -187,7 +190,7 @@ def checked_config(params: SimpleNamespace, warn: Callable[[str], None],
     config.floor_color = _checked_colour(config, 'floor_rgba', warn, allow_empty=True)
     config.wall_color = _checked_colour(config, 'wall_rgba', warn)
     config.obstacle_color = _checked_colour(config, 'obstacle_rgba', warn)
-    for name in ('camera_rate', 'state_rate', 'scan_rate'):
+    for name in ('camera_rate', 'state_rate', 'scan_rate', 'clock_rate'):
         if getattr(config, name) > config.physics_rate:
             warn('~%s %r is above ~physics_rate %r; using %r'
                  % (name, getattr(config, name), config.physics_rate, config.physics_rate))
@@ -343,6 +346,7 @@ class StepResult:
     touched: FrozenSet[str]
     scan: Optional[np.ndarray] = None
     image_time_s: Optional[float] = None
+    clock_due: bool = True
 
 
 @dataclass(frozen=True)
@@ -370,7 +374,7 @@ class Simulation:
                  state_rate_hz: float, cmd_timeout_s: float, max_linear_accel_mps2: float,
                  max_angular_accel_radps2: float, encoding: str = 'bgr8',
                  lidar: Optional[LidarSpec] = None, scan_rate_hz: float = 0.0,
-                 realism: Optional[Realism] = None, seed: int = 0):
+                 realism: Optional[Realism] = None, seed: int = 0, clock_rate_hz: float = 0.0):
         self.world = world
         self.physics_rate_hz = physics_rate_hz
         self.encoding = encoding
@@ -380,6 +384,8 @@ class Simulation:
         self._state_schedule = RateSchedule(state_rate_hz, physics_rate_hz)
         self._scan_schedule = (RateSchedule(scan_rate_hz, physics_rate_hz) if self.lidar
                                else None)
+        self._clock_schedule = (RateSchedule(clock_rate_hz, physics_rate_hz)
+                                if clock_rate_hz > 0.0 else None)
         self._watchdog = CommandWatchdog(cmd_timeout_s)
         self._limiter = TwistLimiter(max_linear_accel_mps2, max_angular_accel_radps2)
         self._touched = frozenset()
@@ -396,7 +402,8 @@ class Simulation:
                           WHEEL_SEPARATION_M)
         return cls(world, config.physics_rate, config.camera_rate, config.state_rate,
                    config.cmd_timeout, config.max_linear_accel, config.max_angular_accel,
-                   config.encoding, lidar_spec(config), config.scan_rate, realism, config.seed)
+                   config.encoding, lidar_spec(config), config.scan_rate, realism, config.seed,
+                   config.clock_rate)
 
     def _true_pose(self) -> Tuple[float, float, float]:
         state = self.world.robot_state()
@@ -444,7 +451,8 @@ class Simulation:
 
     def _schedules(self):
         return [schedule for schedule in (self._camera_schedule, self._state_schedule,
-                                          self._scan_schedule) if schedule is not None]
+                                          self._scan_schedule, self._clock_schedule)
+                if schedule is not None]
 
     def reset(self):
         """Robot back to the start pose at rest, can upright at its last placement; the
@@ -513,10 +521,14 @@ class Simulation:
         image_time_s, image = delivered[-1] if delivered else (None, None)
         scan = (realism.scan(self.world.scan(self.lidar)) if self._scan_schedule is not None
                 and self._scan_schedule.due(self.steps) else None)
-        if not self._state_schedule.due(self.steps):
-            return StepResult(self.time_s, image, False, frozenset(), scan, image_time_s)
+        state_due = self._state_schedule.due(self.steps)
+        clock_due = (self._clock_schedule is None or self._clock_schedule.due(self.steps)
+                     or state_due or image is not None or scan is not None)
+        if not state_due:
+            return StepResult(self.time_s, image, False, frozenset(), scan, image_time_s,
+                              clock_due)
         touched, self._touched = self._touched, frozenset()
-        return StepResult(self.time_s, image, True, touched, scan, image_time_s)
+        return StepResult(self.time_s, image, True, touched, scan, image_time_s, clock_due)
 
     def _capture(self):
         """Render a frame as the camera sees it now and hand it to the frame delivery."""
