@@ -18,6 +18,7 @@ thread between physics steps (in lockstep, after the current frame was answered)
 """
 import math
 import time
+import warnings
 
 import rospy
 import tf2_ros
@@ -28,6 +29,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty, EmptyResponse
+from tf2_msgs.msg import TFMessage
 
 from can_seeker.msg import Contacts
 from can_seeker.sim.call_queue import CallQueue
@@ -57,6 +59,16 @@ PAUSED_POLL_S = 0.002
 STAMPED_COMMAND_TOPIC = 'cmd_vel_stamped'
 TRUTH_QUEUE_SIZE = 1000
 """Outgoing queue of /odom and the ground-truth topics (messages; about 20 s of sim time)."""
+TF_QUEUE_SIZE = 100
+"""Outgoing queue of /tf (tf2_ros.TransformBroadcaster's)."""
+
+
+def _publisher(name, data_class, queue_size):
+    """A rospy publisher; ``queue_size`` None writes each message to the subscribers' sockets
+    within ``publish`` (rospy warns about None for publishers that did not choose it)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter('ignore')
+        return rospy.Publisher(name, data_class, queue_size=queue_size)
 
 
 class SimNode:
@@ -88,22 +100,26 @@ class SimNode:
                                         config.optical_frame)
         rospy.loginfo('sim: realism %s', config.realism)
 
-        self._clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
+        # Ground truth is small and judged message by message: a short outgoing queue drops
+        # part of the path when the sim runs faster than real time on a busy machine. In
+        # lockstep, where the simulator waits for its nodes anyway, the clock, odometry, TF and
+        # ground truth are written from this thread as they are published: rospy's queued
+        # publishing hands every message for every subscriber to a thread of its own and yields
+        # to it, most of this node's CPU time besides rendering.
+        synchronous = self._gate is not None
+        self._clock_pub = _publisher('/clock', Clock, None if synchronous else 10)
         self._image_pub = rospy.Publisher('camera/image_raw', Image, queue_size=2)
         self._info_pub = rospy.Publisher('camera/camera_info', CameraInfo, queue_size=2)
-        # Ground truth is small and judged message by message: a short outgoing queue drops
-        # part of the path when the sim runs faster than real time on a busy machine.
-        self._odom_pub = rospy.Publisher('odom', Odometry, queue_size=TRUTH_QUEUE_SIZE)
-        self._truth_pub = rospy.Publisher('~base_pose_ground_truth', Odometry,
-                                          queue_size=TRUTH_QUEUE_SIZE)
-        self._can_pose_pub = rospy.Publisher('~can_pose', PoseStamped,
-                                             queue_size=TRUTH_QUEUE_SIZE)
-        self._contact_pub = rospy.Publisher('~contact', Bool, queue_size=TRUTH_QUEUE_SIZE)
-        self._contacts_pub = rospy.Publisher('~contacts', Contacts, queue_size=TRUTH_QUEUE_SIZE)
+        truth_queue = None if synchronous else TRUTH_QUEUE_SIZE
+        self._odom_pub = _publisher('odom', Odometry, truth_queue)
+        self._truth_pub = _publisher('~base_pose_ground_truth', Odometry, truth_queue)
+        self._can_pose_pub = _publisher('~can_pose', PoseStamped, truth_queue)
+        self._contact_pub = _publisher('~contact', Bool, truth_queue)
+        self._contacts_pub = _publisher('~contacts', Contacts, truth_queue)
+        self._tf_pub = _publisher('/tf', TFMessage, None if synchronous else TF_QUEUE_SIZE)
         self._world_pub = rospy.Publisher('~world', String, queue_size=1, latch=True)
         self._scan_pub = rospy.Publisher('scan', LaserScan, queue_size=5)
         self._scan = self._scan_template(self._sim.lidar, config.scan_rate, config.lidar_frame)
-        self._tf_broadcaster = tf2_ros.TransformBroadcaster()
         self._static_broadcaster = tf2_ros.StaticTransformBroadcaster()
         self._publish_clock()
         self._publish_static_tf()
@@ -309,10 +325,10 @@ class SimNode:
                             (estimate.linear_mps, 0.0, 0.0), (0.0, 0.0, estimate.angular_radps))
         self._odom_pub.publish(odom)
         pose = odom.pose.pose
-        self._tf_broadcaster.sendTransform(transform_stamped(
+        self._tf_pub.publish(TFMessage([transform_stamped(
             stamp, config.odom_frame, config.base_frame,
             (pose.position.x, pose.position.y, pose.position.z),
-            (pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w)))
+            (pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w))]))
         can_position, can_orientation = world.can_pose()
         can = PoseStamped()
         can.header.stamp = stamp
