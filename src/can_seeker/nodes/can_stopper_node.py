@@ -147,10 +147,9 @@ class CanStopperNode:
         return self.sensor_poses.pose(frame_id, rospy.get_time())
 
     def on_camera_info(self, info):
-        """The camera's floor footprint, once per camera frame (for the coverage grid)."""
+        """The camera's floor footprint (for the coverage grid), from every camera_info: it
+        follows the mount that TF gives."""
         self.monitors['camera_info'].received(rospy.get_time(), info.header.stamp.to_sec())
-        if self.controller.camera_view is not None:
-            return
         pose = self.sensor_pose(info.header.frame_id)
         if pose is None:
             return
@@ -160,6 +159,8 @@ class CanStopperNode:
             rospy.logerr_throttle(5.0, 'can_stopper: bad camera_info: %s' % error)
             return
         view = camera_view(pose, intrinsics, self.params.coverage_range, self.params.can_height)
+        if view == self.controller.camera_view:
+            return
         rospy.loginfo('can_stopper: camera covers %.2f-%.2f m, +-%.1f deg'
                       % (view.near_m, view.far_m, math.degrees(view.half_fov_rad)))
         with self.lock:
