@@ -279,6 +279,21 @@ def expected_ranges(lidar, solids, surface_m=0.0):
     return expected
 
 
+def test_no_scan_is_cast_while_unwanted_and_the_rest_of_the_step_is_the_same(room_sim):
+    room_sim.reset()
+    wanted = [room_sim.step() for _ in range(48)]
+    room_sim.reset()
+    room_sim.scan_wanted = False
+    try:
+        unwanted = [room_sim.step() for _ in range(48)]
+    finally:
+        room_sim.scan_wanted = True
+    assert sum(result.scan is not None for result in wanted) == 2
+    assert all(result.scan is None for result in unwanted)
+    assert [(result.state_due, result.image is None) for result in wanted] == [
+        (result.state_due, result.image is None) for result in unwanted]
+
+
 def test_the_scan_sees_walls_obstacles_and_can_where_they_are(room_sim):
     room_sim.set_scene(room_sim.world.scene)
     scans = [result.scan for result in (room_sim.step() for _ in range(240))

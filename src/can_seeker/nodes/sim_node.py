@@ -367,6 +367,8 @@ class SimNode:
                 time.sleep(PAUSED_POLL_S)
                 wall_start_s, sim_start_s = time.monotonic(), self._sim.time_s
                 continue
+            if self._sim.lidar is not None:
+                self._sim.scan_wanted = self._scan_pub.get_num_connections() > 0
             result = self._sim.step()
             if result.clock_due:
                 self._publish_clock()

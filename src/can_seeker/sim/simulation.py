@@ -392,6 +392,9 @@ class Simulation:
         self.realism = realism if realism is not None else Realism(
             PRESETS['ideal'], world.camera.intrinsics, encoding, WHEEL_SEPARATION_M)
         self.seed = seed
+        self.scan_wanted = True
+        """Whether a due lidar scan is cast (the owner clears it while nobody reads the scans:
+        360 ray casts cost more than the physics steps between two scans)."""
         self._new_trial()
 
     @classmethod
@@ -519,8 +522,9 @@ class Simulation:
             self._capture()
         delivered = realism.frames.due(self.time_s)
         image_time_s, image = delivered[-1] if delivered else (None, None)
-        scan = (realism.scan(self.world.scan(self.lidar)) if self._scan_schedule is not None
-                and self._scan_schedule.due(self.steps) else None)
+        scan_due = self._scan_schedule is not None and self._scan_schedule.due(self.steps)
+        scan = (realism.scan(self.world.scan(self.lidar)) if scan_due and self.scan_wanted
+                else None)
         state_due = self._state_schedule.due(self.steps)
         clock_due = (self._clock_schedule is None or self._clock_schedule.due(self.steps)
                      or state_due or image is not None or scan is not None)
