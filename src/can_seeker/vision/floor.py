@@ -39,12 +39,6 @@ CHROMA_VALUE_MIN = 40
 BIN_TOLERANCE = 1
 """A pixel is floor-like when its bin or a neighbour (hue wraps around) is common in the model:
 tolerates shading across the floor."""
-CHROMA_TOLERANCE = 30
-"""Pixels within this of CHROMA_SATURATION_MIN (0-255) are near the grey/colour boundary: a
-light's colour cast or white balance moves a pale floor (a light checker tile) across it, so
-their colour is floor-like when either their hue bin or the grey bin is common, and they teach
-the model grey (their hue is not to be trusted). The tolerance BIN_TOLERANCE gives hue and
-intensity, on the third axis of the colour space."""
 
 FLOOR_PARAMS = (
     Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
@@ -170,17 +164,13 @@ class FloorClassifier:
         return self._obstacle_regions(raw, bgr)
 
     def _features(self, bgr):
-        """(colour bin, hue bin, intensity bin, near the grey/colour boundary) images of
-        ``bgr``."""
+        """(colour bin, intensity bin) images of ``bgr``."""
         hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
         hue, saturation, value = cv2.split(hsv)
-        hue_bin = cv2.LUT(hue, HUE_BIN_LUT)
+        colour = cv2.LUT(hue, HUE_BIN_LUT)
         grey = (saturation < CHROMA_SATURATION_MIN) | (value < CHROMA_VALUE_MIN)
-        colour = hue_bin.copy()
         colour[grey] = GREY_BIN
-        near_boundary = ((np.abs(saturation.astype(np.int16) - CHROMA_SATURATION_MIN)
-                          < CHROMA_TOLERANCE) & (value >= CHROMA_VALUE_MIN))
-        return colour, hue_bin, cv2.LUT(value, VALUE_BIN_LUT), near_boundary
+        return colour, cv2.LUT(value, VALUE_BIN_LUT)
 
     @staticmethod
     def _histogram(bins, where, length):
@@ -189,13 +179,12 @@ class FloorClassifier:
         return counts / total if total > 0 else None
 
     def _appearance_obstacles(self, bgr, ignore):
-        colour, hue_bin, value, near_boundary = self._features(bgr)
-        taught = np.where(near_boundary, GREY_BIN, colour).astype(np.uint8)
+        colour, value = self._features(bgr)
         reference = self._reference_pixels
         if ignore is not None:
             reference = reference & (ignore == 0)
         if self.colour_model is None:
-            self.colour_model = self._histogram(taught, reference, GREY_BIN + 1)
+            self.colour_model = self._histogram(colour, reference, GREY_BIN + 1)
             self.value_model = self._histogram(value, reference, VALUE_BINS)
             if self.colour_model is None or self.value_model is None:
                 self.reset()
@@ -209,11 +198,9 @@ class FloorClassifier:
         value_floor[:VALUE_BINS] = _tolerant(self.value_model >= threshold, False)
         obstacle_table = np.where(colour_floor, 0, 255).astype(np.uint8)
         raw = cv2.LUT(colour, obstacle_table)
-        either_floor = near_boundary & (colour_floor[GREY_BIN] | colour_floor[hue_bin])
-        raw[either_floor] = 0
         cv2.bitwise_or(raw, cv2.LUT(value, np.where(value_floor, 0, 255).astype(np.uint8)),
                        dst=raw)
-        self._update_model(taught, value, raw, reference)
+        self._update_model(colour, value, raw, reference)
         return raw
 
     def _update_model(self, colour, value, raw, reference):
