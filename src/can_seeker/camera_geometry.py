@@ -176,14 +176,52 @@ def range_from_width(pose: CameraPose, intrinsics: CameraIntrinsics, u_left: flo
     return radius_m / math.sin(half_angle) - radius_m
 
 
-def can_range_bearing(pose, intrinsics, centroid, bbox, diameter_m: float):
+OUTLINE_EDGE_PX = 0.0
+"""Where the outline's extreme pixels put the silhouette's side, beyond their centres (px).
+A side that leans across columns (a pitched camera leans every side off the image's centre
+column) has, among its pixels, one whose centre lies just inside the edge: the extreme centre
+is the edge (a vertical side would read up to a pixel narrow)."""
+
+
+def range_from_outline(pose: CameraPose, intrinsics: CameraIntrinsics, outline_px,
+                       radius_m: float) -> float:
+    """Horizontal distance (m) from the camera to the near surface of an upright cylinder of
+    radius ``radius_m`` whose silhouette's pixels include ``outline_px`` (N x 2 (u, v), e.g.
+    the blob's contour: pixel centres).
+
+    Every point of the cylinder lies between the azimuths of its two silhouette sides, and
+    each side, a vertical line, has one azimuth along its whole length: the extreme azimuths
+    of the outline's pixel edges are the sides' wherever along them the image shows a piece.
+    A pitched camera leans vertical lines toward its nadir, so the box around the silhouette
+    pairs each side's outermost column with a row where that side is not (the width at one
+    row over-reads the angle, by more the steeper the view: 2-3 px close up from a high
+    camera, the can ranged 10-25 mm near at 0.3 m); azimuths of the pixels themselves do not.
+    """
+    points = np.asarray(outline_px, float).reshape(-1, 2)
+    if len(points) == 0:
+        return math.nan
+    u = np.concatenate((points[:, 0] - OUTLINE_EDGE_PX, points[:, 0] + OUTLINE_EDGE_PX))
+    v = np.concatenate((points[:, 1], points[:, 1]))
+    rays = np.stack(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy,
+                     np.ones_like(u)))
+    floor = pose.rotation @ rays
+    azimuth = np.arctan2(floor[1], floor[0]) - pose.heading_rad
+    azimuth = np.arctan2(np.sin(azimuth), np.cos(azimuth))
+    half_angle = float(azimuth.max() - azimuth.min()) / 2.0
+    if half_angle <= 0.0 or half_angle >= math.pi / 2:
+        return math.nan
+    return radius_m / math.sin(half_angle) - radius_m
+
+
+def can_range_bearing(pose, intrinsics, centroid, bbox, diameter_m: float, outline_px=None):
     """(range_m, bearing_rad, method) of an upright can seen as a blob.
 
     ``centroid`` is (u, v) (px); ``bbox`` is (x, y, width, height) of the blob (px, inclusive
-    of x and y). ``method`` is 'floor' (ray through the blob's bottom), 'width' (the bottom is
-    cut by the image edge, so the apparent width is used), or 'none' (NaN range: geometry
-    unknown, or the blob is cut at the bottom and a side). Range and bearing are NaN when
-    ``pose`` or ``intrinsics`` is None.
+    of x and y); ``outline_px`` its contour's pixels (N x 2 (u, v), optional: for the width
+    range, which otherwise takes the box's sides at the centroid's row). ``method`` is 'floor'
+    (ray through the blob's bottom), 'width' (the bottom is cut by the image edge, so the
+    apparent width is used), or 'none' (NaN range: geometry unknown, or the blob is cut at the
+    bottom and a side). Range and bearing are NaN when ``pose`` or ``intrinsics`` is None.
     """
     if pose is None or intrinsics is None:
         return math.nan, math.nan, 'none'
@@ -196,7 +234,10 @@ def can_range_bearing(pose, intrinsics, centroid, bbox, diameter_m: float):
         if math.isfinite(distance):
             return distance, bearing, 'floor'
     if x > 0 and x + width < intrinsics.width:
-        distance = range_from_width(pose, intrinsics, x - 0.5, x + width - 0.5, v, radius_m)
+        if outline_px is not None and len(outline_px):
+            distance = range_from_outline(pose, intrinsics, outline_px, radius_m)
+        else:
+            distance = range_from_width(pose, intrinsics, x - 0.5, x + width - 0.5, v, radius_m)
         if math.isfinite(distance):
             return distance, bearing, 'width'
     return math.nan, bearing, 'none'

@@ -186,3 +186,23 @@ def test_vertical_fov_intrinsics_are_unchanged():
     intrinsics = intrinsics_from_vertical_fov(320, 240, 45.0)
     assert intrinsics.fx == pytest.approx(289.706, abs=1e-3)
     assert (intrinsics.cx, intrinsics.cy) == (159.5, 119.5)
+
+
+@pytest.mark.parametrize('height_m, pitch_deg, centre_xy', [
+    (0.34, 25.0, (0.33, 0.06)), (0.34, 15.0, (0.38, -0.05)), (0.34, 15.0, (0.45, 0.0)),
+    (0.25, 15.0, (0.33, 0.06)), (0.25, 15.0, (0.30, 0.0))])
+def test_width_range_from_the_outline_is_exact_where_a_pitched_camera_leans_the_sides(
+        height_m, pitch_deg, centre_xy):
+    """A high camera pitched little sees the can's base leave the image before the stop
+    distance. Its silhouette's sides lean toward the nadir, the box around it is 2-4 px wider
+    than the silhouette at any one row: the width range from the box read 8-25 mm near; from
+    the contour's pixels it is within 4 mm."""
+    from can_seeker.vision.detector import red_blobs
+    from can_seeker.vision.report import CanModel, can_report
+    intrinsics = intrinsics_from_vertical_fov(320, 240, 45.0)
+    pose = camera_pose_from_mount(CameraMount(height_m, pitch_deg))
+    mask = can_mask(centre_xy, intrinsics, height_m, math.radians(pitch_deg)) * 255
+    report = can_report(red_blobs(mask, 10.0), 320, 240, pose, intrinsics,
+                        CanModel(2 * CAN_RADIUS_M, CAN_HEIGHT_M))
+    assert report.range_method == 'width'
+    assert report.range_m == pytest.approx(true_range(centre_xy), abs=0.004)

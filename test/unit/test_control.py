@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from can_seeker.camera_geometry import camera_pose_from_transform
-from can_seeker.control.navigation import Pose2D
+from can_seeker.control.navigation import CameraView, Pose2D
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
                                 camera_floor_pose, dead_band, detection_problem,
                                 detection_shows_can, sighting_from_detection)
@@ -625,3 +625,50 @@ def test_a_stale_sensor_stops_the_driving_even_when_the_other_is_fresh():
     assert command[0] == 0.0
     assert controller.why.startswith('no scan on /scan for ')
     assert [item.name for item in controller.missing_inputs(2.0)] == ['/scan']
+
+
+# Close up, the can's base below the image --------------------------------------------------
+
+def approach_with_the_base_leaving_the_image(can_x_m, base_near_m, seen_near_m=None):
+    """Drive a unicycle from the origin toward a can ``can_x_m`` ahead, with a camera at
+    x = 0.12 whose image's bottom row meets the floor ``base_near_m`` ahead of it: the
+    detector ranges the can while its near surface is beyond that, and sees nothing nearer
+    (``seen_near_m`` overrides where it stops seeing it). Returns (controller, true gap)."""
+    controller = make_controller()
+    controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5,
+                                          base_near_m))
+    seen_near_m = base_near_m if seen_near_m is None else seen_near_m
+    x_m, now = 0.0, 0.0
+    for _ in range(int(20.0 / DT)):
+        controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
+        range_m = can_x_m - x_m - 0.12 - 0.033
+        sighting = (Sighting(range_m + 0.12 - 0.165, 0.0) if range_m > seen_near_m else None)
+        controller.observe(sighting, now)
+        linear, _ = controller.command(now)
+        if controller.state is State.STOPPED:
+            break
+        x_m += linear * DT
+        now += DT
+    return controller, can_x_m - x_m - 0.033 - 0.165
+
+
+def test_the_approach_goes_on_by_odometry_once_the_cans_base_is_below_the_image():
+    """A camera 0.34 m up pitched 15 deg down (45 deg vertical view) sees the floor from
+    0.44 m ahead: at the stop distance (0.3 m from the camera) the can is below its view. The
+    approach stops at the position it ranged last, carried by odometry, and stays there."""
+    controller, gap_m = approach_with_the_base_leaving_the_image(1.5, 0.44)
+    assert controller.state is State.STOPPED
+    assert gap_m == pytest.approx(STOP, abs=DEFAULTS['distance_tolerance'])
+    assert controller.can_below_view()
+    now = 30.0
+    for _ in range(int(5.0 / DT)):
+        controller.observe(None, now)
+        controller.command(now)
+        now += DT
+    assert controller.state is State.STOPPED
+
+
+def test_a_can_unseen_where_the_camera_would_see_its_base_is_lost():
+    controller, gap_m = approach_with_the_base_leaving_the_image(1.5, 0.44, seen_near_m=0.7)
+    assert controller.state is not State.STOPPED
+    assert gap_m > 0.5

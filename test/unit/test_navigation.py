@@ -63,6 +63,13 @@ def test_camera_view_of_the_default_mount():
     bottom_m = 0.25 / math.tan(math.radians(25.0 + 22.5))
     assert view.near_m == pytest.approx(bottom_m * (1.0 - 0.122 / 0.25), rel=1e-2)
     assert view.far_m == 2.5
+    assert view.base_near_m == pytest.approx(bottom_m, rel=1e-2)
+
+
+def test_a_high_camera_pitched_little_sees_the_floor_from_farther():
+    pose = camera_pose_from_mount(CameraMount(0.34, 15.0))
+    view = camera_view(pose, intrinsics_from_vertical_fov(320, 240, 45.0), 2.5, 0.122)
+    assert view.base_near_m == pytest.approx(0.34 / math.tan(math.radians(15.0 + 22.5)), rel=1e-2)
 
 
 # Planning ------------------------------------------------------------------------------------

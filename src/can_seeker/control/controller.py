@@ -12,6 +12,11 @@ fixed rate):
   obstacles lie between the robot and the can, follow a grid path around them.
 - STOPPED: hold zero; drive again only when the can moves away beyond a hysteresis band;
   when the can has not been seen (with a range) for ``vanish_timeout``, LOST: it was taken away.
+- Close up, below the view: once the can's base, where it was ranged last, is nearer than the
+  image's bottom row (plus ``BELOW_VIEW_MARGIN_M``), the camera sees at most its cut top (a
+  high camera pitched little sees nothing of it at the stop distance): APPROACH and STOPPED
+  then go on with that position, carried by odometry, instead of taking the unranged or
+  missing detections for a lost can.
 - LOST: the can left the view during APPROACH (or vanished while STOPPED): go back toward where
   it was last seen (turn toward the side where it was without odometry); after
   ``lost_timeout`` without it, SEARCH.
@@ -167,6 +172,10 @@ SAFETY_RESERVE_M = 0.03
 STALL_CELLS = 5
 DIRECT_GAP_M = 0.5
 STALL_S = 6.0
+BELOW_VIEW_MARGIN_M = 0.05
+"""The can counts as below the view from this far beyond the floor of the image's bottom row
+(m): there its base touches the bottom edge, where the floor range gives way to the width
+range, with a confidence that falls toward 0 as the silhouette is cut."""
 
 
 class State(enum.Enum):
@@ -379,6 +388,12 @@ class Controller:
         if sighting is not None and sighting.bearing_rad != 0.0:
             self.turn_sign = math.copysign(1.0, sighting.bearing_rad)
         ranged = sighting is not None and sighting.has_range
+        if (not ranged and self.state in (State.APPROACH, State.STOPPED)
+                and self.can_below_view()):
+            # The camera cannot range the can there: go on with where it was ranged last.
+            self.sighting = self._sighting_now(self.can_xy, self.sighting.confidence
+                                               if self.sighting is not None else 0.0)
+            ranged = True
         if can_xy is not None:
             self.can_xy = can_xy
         if self.state in (State.SEARCH, State.EXPLORE, State.LOST):
@@ -396,6 +411,22 @@ class Controller:
         gap_m, bearing_rad = sighting_from(can_xy, self.navigator.pose, self.config.robot_radius,
                                            self.config.can_radius)
         return Sighting(gap_m, bearing_rad, confidence)
+
+    def can_below_view(self) -> bool:
+        """True when the tracked can's near surface is nearer the camera, along its heading,
+        than the floor of the image's bottom row plus ``BELOW_VIEW_MARGIN_M``: its base is
+        below the image, so the detector cannot range it (or see it at all). False without a
+        tracked can, a pose or a camera view that knows its bottom row."""
+        view, pose = self.camera_view, self.navigator.pose
+        if view is None or view.base_near_m <= 0.0 or self.can_xy is None or pose is None:
+            return False
+        dx, dy = self.can_xy[0] - pose.x, self.can_xy[1] - pose.y
+        cos_yaw, sin_yaw = math.cos(pose.yaw), math.sin(pose.yaw)
+        can_x = cos_yaw * dx + sin_yaw * dy - view.x
+        can_y = -sin_yaw * dx + cos_yaw * dy - view.y
+        forward_m = (can_x * math.cos(view.yaw) + can_y * math.sin(view.yaw)
+                     - self.config.can_radius)
+        return forward_m < view.base_near_m + BELOW_VIEW_MARGIN_M
 
     def _can_xy_of(self, sighting: Sighting,
                    pose: Optional[Pose2D]) -> Optional[Tuple[float, float]]:

@@ -37,7 +37,9 @@ class Pose2D:
 @dataclass(frozen=True)
 class CameraView:
     """The floor the camera covers, in base_link: from (x, y) looking along ``yaw`` (rad),
-    ``half_fov_rad`` either side, from ``near_m`` to ``far_m`` away on the floor."""
+    ``half_fov_rad`` either side, from ``near_m`` to ``far_m`` away on the floor.
+    ``base_near_m`` is where the floor enters the image's bottom row, along ``yaw``: nearer, a
+    target's base is below the image (0: unknown)."""
 
     x: float
     y: float
@@ -45,6 +47,7 @@ class CameraView:
     half_fov_rad: float
     near_m: float
     far_m: float
+    base_near_m: float = 0.0
 
 
 def camera_view(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: float,
@@ -67,7 +70,7 @@ def camera_view(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: flo
     if near is not None and pose.height_m > 0.0:
         near_m = near * max(0.0, 1.0 - target_height_m / pose.height_m)
     return CameraView(float(camera_xy[0]), float(camera_xy[1]), pose.heading_rad, half_fov,
-                      near_m, far_m)
+                      near_m, far_m, 0.0 if near is None else near)
 
 
 class Navigator:

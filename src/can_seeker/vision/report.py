@@ -113,7 +113,8 @@ def _measure(blob: Blob, pose, intrinsics, can: CanModel):
     """(confidence, (range_m, bearing_rad, range_method)) of one blob."""
     range_m, bearing, method = can_range_bearing(
         pose, intrinsics, (blob.centroid_x, blob.centroid_y),
-        (blob.x, blob.y, blob.width, blob.height), can.diameter_m)
+        (blob.x, blob.y, blob.width, blob.height), can.diameter_m,
+        None if blob.contour is None else blob.contour.reshape(-1, 2))
     confidence = blob.shape_score * geometry_score(blob, pose, intrinsics, range_m, bearing,
                                                    method, can)
     return confidence, (range_m, bearing, method)
