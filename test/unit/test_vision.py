@@ -316,6 +316,16 @@ def test_shape_score_parts():
     assert shape_score(1.0, 0.9, 3.0, 0.0, ('left', 'bottom')) == pytest.approx(0.5625)
 
 
+def test_the_foot_of_a_can_cut_at_the_top_is_not_judged_by_its_long_axis():
+    """A camera 0.15 m up pitched 35 deg down sees the floor only to 0.68 m: a can 0.45-0.6 m
+    away shows its foot, cut at the top and wider than tall, whose long axis lies across (tilt
+    90 deg). It scored 0, so the can was never taken for one there; its size is checked against
+    its floor range instead."""
+    assert shape_score(1.0, 0.93, 0.5, 90.0, ('top',)) == pytest.approx(0.75)
+    assert shape_score(1.0, 0.93, 0.5, 90.0, ('bottom',)) == 0.0
+    assert shape_score(1.0, 0.93, 0.5, 90.0, ()) == 0.0
+
+
 def test_tilted_bar_is_not_upright():
     image = scene()
     box = cv2.boxPoints(((160, 120), (24, 70), 45.0)).astype(np.int32)

@@ -286,6 +286,7 @@ def shape_score(solidity: float, fill: float, aspect: float, tilt_deg: float,
     as tall as wide, so 1.4-2.6 scores 1, 1.0 or 4.0 scores 0.
     Measures along a cut side are not judged, and each cut axis (left/right, top/bottom)
     multiplies the score by CUT_FACTOR: a partly seen silhouette is a weaker sign of a can.
+    The tilt of a blob cut only at the top is not judged (see below).
     """
     score = _ramp(solidity, 0.8, 0.93) * _ramp(fill, 0.6, 0.8)
     cut_across = 'left' in cut or 'right' in cut
@@ -295,6 +296,11 @@ def shape_score(solidity: float, fill: float, aspect: float, tilt_deg: float,
     elif cut_across and not cut_along:
         score *= _ramp(aspect, 1.0, 1.4)
     score *= CUT_FACTOR ** (int(cut_across) + int(cut_along))
+    if cut == ('top',):
+        # The can's foot seen by a low camera pitched down: wider than tall farther away, so
+        # its long axis lies across whatever the can's lean; its size is checked against its
+        # floor range instead (report.geometry_score).
+        return score
     return score * _ramp(-tilt_deg, -35.0, -15.0)
 
 
