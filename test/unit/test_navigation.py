@@ -306,23 +306,6 @@ def test_the_safety_layer_forgets_a_phantom_that_scans_keep_in_their_blind_zone(
     assert navigator.grid.occupied()[navigator.grid.cell_of(0.5, 0.0)]   # still on the map
 
 
-def test_paths_forget_a_phantom_when_the_safety_layer_does():
-    """A phantom the safety layer no longer avoids blocks no path either: a plan that still
-    went round it would leave the robot facing its goal with nowhere to go."""
-    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, memory_s=10.0)
-    navigator.pose = Pose2D(0.0, 0.0, 0.0)
-    wall = np.array([[0.5, y] for y in np.arange(-1.0, 1.01, 0.05)])
-    navigator.add_scan(wall, np.ones(len(wall), bool), (0.0, 0.0), navigator.pose, stamp_s=0.0)
-    ahead = np.array([[2.0, 4.0 * y] for y in np.arange(-1.0, 1.01, 0.01)])
-    beyond = np.zeros(len(ahead), bool)
-    navigator.add_scan(ahead, beyond, (0.0, 0.0), navigator.pose, range_min_m=1.5, stamp_s=5.0)
-    assert navigator.straight_line_blocked((1.5, 0.0))           # 5 s in the blind zone
-    navigator.add_scan(ahead, beyond, (0.0, 0.0), navigator.pose, range_min_m=1.5, stamp_s=11.0)
-    assert not navigator.straight_line_blocked((1.5, 0.0))       # 11 s: forgotten
-    path = navigator.path_to((1.5, 0.0))
-    assert path is not None and len(path) <= 17
-
-
 def test_a_remembered_obstacle_is_kept_where_it_was_hit_not_at_its_cell_centre():
     navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
     navigator.pose = Pose2D(0.0, 0.0, math.pi / 2.0)

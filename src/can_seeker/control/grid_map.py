@@ -67,10 +67,9 @@ class GridMap:
         return np.stack((self.origin_m + (np.asarray(ix) + 0.5) * self.resolution_m,
                          self.origin_m + (np.asarray(iy) + 0.5) * self.resolution_m), axis=-1)
 
-    def occupied(self, max_blind_s: float = np.inf) -> np.ndarray:
-        """Cells with more evidence of an obstacle than of free floor, that scans have had in
-        their blind zone for less than ``max_blind_s`` since one last hit them."""
-        return (self.evidence > 0) & (self.blind_s < max_blind_s)
+    def occupied(self) -> np.ndarray:
+        """Cells with more evidence of an obstacle than of free floor."""
+        return self.evidence > 0
 
     def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
                  clear_from_m: float = 0.0, stamp_s: float = 0.0, source: str = '') -> None:

@@ -162,10 +162,8 @@ class Navigator:
 
     def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
                       margin_m: Optional[float] = None) -> np.ndarray:
-        """Cells the robot's centre must not enter: obstacles grown by radius plus margin (the
-        obstacles the safety layer keeps: none that scans have had in their blind zone for
-        ``memory_s``, so a phantom there blocks no path once it blocks no motion)."""
-        occupied = self.grid.occupied(self.memory_s)
+        """Cells the robot's centre must not enter: obstacles grown by radius plus margin."""
+        occupied = self.grid.occupied()
         if exclude_xy is not None:
             ix, iy = np.nonzero(occupied)
             centres = self.grid.centre_of(ix, iy).reshape(-1, 2)
