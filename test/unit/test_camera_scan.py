@@ -146,7 +146,10 @@ def test_rendered_scan_matches_the_obstacle_geometry(room, floor, obstacle):
     assert annotated.shape == image.shape and np.any(annotated != image)
 
 
-def test_red_can_is_not_an_obstacle_unless_told(room):
+def test_red_can_is_an_obstacle_unless_excluded(room):
+    """By default the scan reports the can like any obstacle (as a lidar does): a consumer
+    that leaves it out must know it is its target (can_stopper does, only while it approaches
+    it); excluded, the red blob is neither floor nor obstacle."""
     world = room((0.75, 0.72, 0.65, 1), (0.12, 0.12, 0.12, 1))
     world.place_can(0.8, -0.1)
     try:
@@ -154,8 +157,9 @@ def test_red_can_is_not_an_obstacle_unless_told(room):
     finally:
         world.place_can(8.0, 8.0)
     can_angle = math.atan2(-0.1, 0.8)
-    for exclude, expect_can in ((True, False), (False, True)):
-        scanner = CameraScanner(exclude_can=exclude)
+    for scanner, expect_can in ((CameraScanner(exclude_can=True), False),
+                                (CameraScanner(exclude_can=False), True),
+                                (CameraScanner(), True)):
         ranges = scanner.scan(image, POSE, INTRINSICS).ranges
         index = int(round((can_angle - scanner.geometry.angle_min)
                           / scanner.geometry.angle_increment))
@@ -198,7 +202,7 @@ def banded_can_scene(width=WIDTH, height=HEIGHT):
 
 def test_banded_can_with_rims_is_not_an_obstacle():
     image = banded_can_scene()
-    excluded = CameraScanner().scan(image, POSE, INTRINSICS)
+    excluded = CameraScanner(exclude_can=True).scan(image, POSE, INTRINSICS)
     assert not excluded.obstacles.any()
     assert np.all(np.isinf(excluded.ranges))
     included = CameraScanner(exclude_can=False).scan(image, POSE, INTRINSICS)
@@ -209,7 +213,7 @@ def test_floor_hidden_behind_the_can_is_not_measured():
     """A wall touching the top of the can: its base behind the can is NaN, beside it a range."""
     image = banded_can_scene()
     image[40:101, :] = (40, 40, 40)                     # a wall standing on row 100
-    result = CameraScanner().scan(image, POSE, INTRINSICS)
+    result = CameraScanner(exclude_can=True).scan(image, POSE, INTRINSICS)
     geometry = CameraScanner().geometry_for(POSE, INTRINSICS)
     angles = bin_angles(geometry)
     can_left, can_right = (math.atan2(*floor_point(POSE, INTRINSICS, u, 150.5)[::-1])
@@ -222,7 +226,7 @@ def test_floor_hidden_behind_the_can_is_not_measured():
     assert np.allclose(result.ranges[beside], wall_x / np.cos(angles[beside]), rtol=0.01)
     clear = banded_can_scene()
     clear[40:80, :] = (40, 40, 40)                      # floor seen between can and wall
-    ranges = CameraScanner().scan(clear, POSE, INTRINSICS).ranges
+    ranges = CameraScanner(exclude_can=True).scan(clear, POSE, INTRINSICS).ranges
     assert not np.isnan(ranges).any() and np.isfinite(ranges[hidden]).all()
 
 
@@ -231,7 +235,7 @@ def test_rendered_textured_can_is_never_an_obstacle():
     and to the sides: no obstacle bin anywhere. Up to 1.5 m the floor is seen over it; at 3 m
     the ray over its lid meets the floor beyond max_range, so what lies behind it is NaN."""
     with World(URDF, CameraSpec(WIDTH, HEIGHT, 45.0, MOUNT), can_texture='textured') as world:
-        scanner = CameraScanner()
+        scanner = CameraScanner(exclude_can=True)
         for distance in (0.45, 0.8, 1.5, 3.0):
             for bearing in (-0.3, 0.0, 0.3):
                 world.place_can(distance * math.cos(bearing), distance * math.sin(bearing))
@@ -247,7 +251,7 @@ def test_the_excluded_can_is_the_most_can_like_red_blob_not_the_largest():
         world.place_can(0.8, -0.15)
         image = world.render()
     image[70:112, 10:130] = (30, 25, 200)               # the poster stands on row 111
-    result = CameraScanner().scan(image, POSE, INTRINSICS)
+    result = CameraScanner(exclude_can=True).scan(image, POSE, INTRINSICS)
     geometry = CameraScanner().geometry_for(POSE, INTRINSICS)
     angles = bin_angles(geometry)
     can_angle = math.atan2(-0.15, 0.8)

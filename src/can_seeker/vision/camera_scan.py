@@ -33,9 +33,10 @@ SCAN_PARAMS = (
           'are not reported; also caps the scan\'s range_max (m)', 0.1, 100.0),
     Param('scan_frame', BASE_FRAME.default, 'frame of the scan, on the floor with z up (REP-103); the '
           'camera pose is looked up in TF from it'),
-    Param('exclude_can', True, 'the red can (the red blob image_converter reports as the most '
-          'can-like, with the red stacked on it, its lid, base and band) is the target, not an '
-          'obstacle'),
+    Param('exclude_can', False, 'leave the red can (the red blob image_converter reports as '
+          'the most can-like, with the red stacked on it, its lid, base and band) out of the '
+          'scan, for a consumer that does not know its target; can_stopper needs it in: it '
+          'leaves out only the can it approaches, and avoids every other red object'),
 )
 CAN_MARGIN = 0.25
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
@@ -234,7 +235,7 @@ class CameraScanner:
     """BGR images + camera geometry -> obstacle masks and scans; caches the geometry tables."""
 
     def __init__(self, floor_settings: Optional[FloorSettings] = None, max_range_m: float = 4.0,
-                 exclude_can: bool = True, can_detector: Optional[RedCanDetector] = None,
+                 exclude_can: bool = False, can_detector: Optional[RedCanDetector] = None,
                  can_model: Optional[CanModel] = None):
         self.floor = FloorClassifier(floor_settings)
         self.max_range_m = max_range_m
