@@ -15,6 +15,7 @@ from can_seeker.camera_mount import (MOUNT_PARAMS, OPTICAL_IN_CAMERA_LINK_XYZW, 
 from can_seeker.robot_model import MAST_GAP_M, robot_urdf, rpy_from_quaternion
 from can_seeker.sim.world import CameraSpec, World
 from can_seeker.tools import robot_description
+from urdf_checks import joint_origin, rpy_matrix
 
 URDF = pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf'
 TEMPLATE = URDF.read_text()
@@ -22,19 +23,6 @@ MOUNTS = [CameraMount(0.15, 15.0), CameraMount(0.35, 35.0), CameraMount(0.1, -30
           CameraMount(1.5, 80.0)]
 
 
-def rpy_matrix(roll, pitch, yaw):
-    """URDF fixed-axis roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    cr, sr, cp, sp, cy, sy = (math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch),
-                              math.cos(yaw), math.sin(yaw))
-    return (np.array(((cy, -sy, 0), (sy, cy, 0), (0, 0, 1)))
-            @ np.array(((cp, 0, sp), (0, 1, 0), (-sp, 0, cp)))
-            @ np.array(((1, 0, 0), (0, cr, -sr), (0, sr, cr))))
-
-
-def joint_origin(robot, name):
-    origin = robot.find("joint[@name='%s']/origin" % name)
-    return ([float(value) for value in origin.get('xyz').split()],
-            [float(value) for value in origin.get('rpy').split()])
 
 
 def mast(robot):

@@ -10,6 +10,7 @@ from can_seeker.camera_geometry import quaternion_matrix
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
 from can_seeker.sim.simulation import PARAMS
 from can_seeker.sim.scene import ROBOT_RADIUS_M as BODY_RADIUS_M, WHEEL_RADIUS_M, WHEEL_SEPARATION_M
+from urdf_checks import joint_origin, rpy_matrix
 
 URDF = pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf'
 DEFAULTS = {spec.name: spec.default for spec in PARAMS}
@@ -20,19 +21,6 @@ def robot():
     return ET.parse(URDF).getroot()
 
 
-def joint_origin(robot, name):
-    origin = robot.find("joint[@name='%s']/origin" % name)
-    return ([float(value) for value in origin.get('xyz').split()],
-            [float(value) for value in origin.get('rpy').split()])
-
-
-def rpy_matrix(roll, pitch, yaw):
-    """URDF fixed-axis roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    cr, sr, cp, sp, cy, sy = (math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch),
-                              math.cos(yaw), math.sin(yaw))
-    return (np.array(((cy, -sy, 0), (sy, cy, 0), (0, 0, 1)))
-            @ np.array(((cp, 0, sp), (0, 1, 0), (-sp, 0, cp)))
-            @ np.array(((1, 0, 0), (0, cr, -sr), (0, sr, cr))))
 
 
 def test_camera_joint_is_the_default_mount(robot):
