@@ -194,6 +194,23 @@ def test_the_target_can_is_not_an_obstacle():
     assert navigator.free_travel_m((0.3, 0.0), (0.6, 0.0), 0.15) == 1.0
 
 
+def test_following_a_path_says_why_it_only_turns():
+    """A robot that turns in place toward its path says why it does not drive: the path lies
+    behind it, or no heading is clear; it says nothing while it drives."""
+    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
+    navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    ahead, behind = np.array([[0.2, 0.0], [1.0, 0.0]]), np.array([[-0.2, 0.0], [-1.0, 0.0]])
+    (linear, _), why = navigator.follow(ahead, 0.3, math.radians(25.0), 2.0)
+    assert linear > 0.0 and why == ''
+    (linear, angular), why = navigator.follow(behind, 0.3, math.radians(25.0), 2.0)
+    assert linear == 0.0 and angular != 0.0 and why.startswith('turning to the path first')
+    ring = 0.25 * np.stack((np.cos(np.linspace(0, 2 * math.pi, 72, endpoint=False)),
+                            np.sin(np.linspace(0, 2 * math.pi, 72, endpoint=False))), axis=1)
+    navigator.add_scan(ring, np.ones(len(ring), bool), (0.0, 0.0), navigator.pose)
+    (linear, angular), why = navigator.follow(ahead, 0.3, math.radians(25.0), 2.0)
+    assert linear == 0.0 and angular != 0.0 and why.startswith('no heading clear')
+
+
 # Controller ----------------------------------------------------------------------------------
 
 OBSTACLES = [(1.2, 1.2, 0.25), (-1.0, 1.0, 0.2), (0.8, -1.4, 0.3), (-1.5, -1.0, 0.25),

@@ -580,8 +580,12 @@ class Controller:
             self.planned_s = now_s
         if self.path_xy is None:
             return None
-        return self.navigator.follow(self.path_xy, config.explore_linear,
-                                     math.radians(config.turn_in_place_deg), config.angular_gain)
+        command, why = self.navigator.follow(self.path_xy, config.explore_linear,
+                                             math.radians(config.turn_in_place_deg),
+                                             config.angular_gain)
+        if why:
+            self._because(why)
+        return command
 
     def _explore(self, now_s: float) -> Tuple[float, float]:
         """Head for the nearest floor not covered yet; SEARCH again on arrival."""

@@ -244,11 +244,12 @@ class Navigator:
         return planner.segment_blocked(blocked, start, goal)
 
     def follow(self, path_xy: np.ndarray, cruise_mps: float, turn_in_place_rad: float,
-               angular_gain: float) -> Tuple[float, float]:
-        """(linear, angular) toward the path's lookahead point, brought nearer along the path
-        (down to ``MIN_LOOKAHEAD_M``) until the straight line to it clears the obstacles, so
-        the robot does not cut corners into them; then the clear heading nearest to it, so a
-        robot that has come too close to an obstacle turns to a gap instead of stalling."""
+               angular_gain: float) -> Tuple[Tuple[float, float], str]:
+        """((linear, angular), why) toward the path's lookahead point, brought nearer along the
+        path (down to ``MIN_LOOKAHEAD_M``) until the straight line to it clears the obstacles,
+        so the robot does not cut corners into them; then the clear heading nearest to it, so a
+        robot that has come too close to an obstacle turns to a gap instead of stalling.
+        ``why`` says why it only turns ('' when it drives)."""
         pose = self.pose
         index = avoidance.lookahead_index(path_xy, (pose.x, pose.y), LOOKAHEAD_M)
         nearest = avoidance.lookahead_index(path_xy, (pose.x, pose.y), MIN_LOOKAHEAD_M)
@@ -266,9 +267,14 @@ class Navigator:
         heading = avoidance.clear_heading(points, math.atan2(target_base[1], target_base[0]),
                                           clearance, CLEAR_AHEAD_M)
         if math.isnan(heading):
-            return 0.0, math.copysign(angular_gain, target_base[1] or 1.0)
-        return avoidance.steer_to_point((math.cos(heading), math.sin(heading)), cruise_mps,
-                                        turn_in_place_rad, angular_gain)
+            return (0.0, math.copysign(angular_gain, target_base[1] or 1.0)), (
+                'no heading clear for %.2f m: turning in place toward the path' % CLEAR_AHEAD_M)
+        command = avoidance.steer_to_point((math.cos(heading), math.sin(heading)), cruise_mps,
+                                           turn_in_place_rad, angular_gain)
+        why = '' if command[0] > 0.0 else (
+            'turning to the path first: clear heading %.0f deg off, driving within %.0f deg'
+            % (math.degrees(heading), math.degrees(turn_in_place_rad)))
+        return command, why
 
     def distance_to(self, xy: Sequence[float]) -> float:
         """Distance (m) from base_link to odom point ``xy``."""
