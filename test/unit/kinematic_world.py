@@ -113,15 +113,16 @@ CAMERA_VIEW = CameraView(CAMERA_X, 0.0, 0.0, math.radians(29.0), 0.12, 2.5)
 
 
 def run(controller, world, duration_s, rate=20.0, scan_fov=2 * math.pi, stop_when=None,
-        camera_scan=False):
-    """Run the closed loop, scanning all around within ``scan_fov`` or, with ``camera_scan``,
-    what the camera sees; return (times, poses, states, min clearance)."""
+        camera_scan=False, start_s=0.0):
+    """Run the closed loop from ``start_s`` (to go on with a run that stopped), scanning all
+    around within ``scan_fov`` or, with ``camera_scan``, what the camera sees; return (time
+    at the end, poses, states, min clearance)."""
     controller.set_camera_view(CAMERA_VIEW)
     dt = 1.0 / rate
-    now = 0.0
+    now = start_s
     poses, states = [], []
     min_clearance = math.inf
-    while now < duration_s:
+    while now < start_s + duration_s:
         controller.observe_pose(world.pose, now)
         if camera_scan:
             ends, hits, range_min = world.camera_scan(CAMERA_VIEW)

@@ -270,6 +270,23 @@ def test_a_camera_only_robot_keeps_its_margin_from_obstacles_that_left_its_view(
     assert clearance > DEFAULTS['safety_margin'] / 2.0
 
 
+def test_lost_facing_where_the_can_was_searches_at_once():
+    """The can vanishes while the robot approaches it: LOST turns to face where it was, and
+    seeing nothing there it searches within a second or so, not after ~lost_timeout."""
+    world = World(3.0, [], (1.2, 0.0))
+    controller = make_controller()
+    now, _, _, _ = run(controller, world, 30.0, stop_when=lambda c: (
+        c.state is State.APPROACH and c.sighting.gap_m < 0.45))
+    assert controller.state is State.APPROACH
+    world.can_xy = (10.0, 10.0)
+    _, _, states, _ = run(controller, world, 10.0, start_s=now,
+                          stop_when=lambda c: c.state is State.SEARCH)
+    assert states[-1] is State.SEARCH and State.LOST in states
+    lost_s = (len(states) - states.index(State.LOST)) / 20.0
+    assert lost_s < DEFAULTS['lost_timeout'] / 2.0
+    assert controller.why == 'the can is not where it was seen last: searching'
+
+
 def test_wander_keeps_moving_without_touching_anything():
     world = World(2.0, OBSTACLES[:3])
     controller = make_controller(behaviour='wander')

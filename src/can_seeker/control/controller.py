@@ -19,7 +19,8 @@ fixed rate):
   missing detections for a lost can.
 - LOST: the can left the view during APPROACH (or vanished while STOPPED): go back toward where
   it was last seen (turn toward the side where it was without odometry); after
-  ``lost_timeout`` without it, SEARCH.
+  ``lost_timeout`` without it, SEARCH, and at once when the robot faces where it was and does
+  not see it there (``NOT_THERE_S``).
 - WANDER (``behaviour`` wander, no can): drive straight, turn away from obstacles ahead.
 
 With range scans (``scan_topics``: a camera scan, a lidar, or both), every command passes a
@@ -172,6 +173,11 @@ SAFETY_RESERVE_M = 0.03
 STALL_CELLS = 5
 DIRECT_GAP_M = 0.5
 STALL_S = 6.0
+NOT_THERE_S = 1.0
+"""LOST within reach of where the can was seen last, facing it (within
+~reapproach_bearing_deg, its base in view) without seeing it for this long (s): it is not
+there (moved, or a misplaced sighting put it there), so SEARCH at once instead of standing
+until ~lost_timeout."""
 BELOW_VIEW_MARGIN_M = 0.05
 """The can counts as below the view from this far beyond the floor of the image's bottom row
 (m): there its base touches the bottom edge, where the floor range gives way to the width
@@ -332,7 +338,7 @@ class Controller:
         may have been moved since) and are ignored.
         """
         self.ignore_before_s = now_s
-        self.state = State.WANDER if self.wander else State.SEARCH
+        self._enter(State.WANDER if self.wander else State.SEARCH)
         self.turn_sign = 1.0
         self.sighting: Optional[Sighting] = None
         self.can_xy: Optional[Tuple[float, float]] = None
@@ -360,6 +366,7 @@ class Controller:
 
     def _enter(self, state: State) -> None:
         self.state = state
+        self.facing_lost_s: Optional[float] = None
         self.searched_rad = 0.0
         self.goal_xy = None
         self.path_xy = None
@@ -661,6 +668,18 @@ class Controller:
         can_base = avoidance.to_frame(np.array(self.can_xy), pose.x, pose.y, pose.yaw)[0]
         reach_m = config.robot_radius + config.can_radius + config.stop_distance
         if np.hypot(*can_base) < reach_m + GOAL_REACHED_M:
+            facing = (abs(math.atan2(can_base[1], can_base[0]))
+                      <= math.radians(config.reapproach_bearing_deg) and not self.can_below_view())
+            if not facing:
+                self.facing_lost_s = None
+            elif self.facing_lost_s is None:
+                self.facing_lost_s = now_s
+            elif now_s - self.facing_lost_s >= NOT_THERE_S:
+                self._enter(State.SEARCH)
+                self._because('the can is not where it was seen last: searching')
+                return turning
+            self._because('turning toward where the can was seen last' if not facing else
+                          'facing where the can was seen last, it is not in view')
             return avoidance.steer_to_point(can_base, 0.0, 1.0, config.angular_gain)
         command = self._follow_path(self.can_xy, now_s, self.can_xy)
         return turning if command is None else command
