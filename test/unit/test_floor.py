@@ -3,7 +3,8 @@ adaptation, and the tutorial's dark-threshold baseline."""
 import numpy as np
 import pytest
 
-from can_seeker.vision.floor import FloorClassifier, FloorSettings, reference_trapezoid
+from can_seeker.vision.floor import (FloorClassifier, FloorSettings, floor_blends,
+                                     reference_trapezoid)
 
 WIDTH, HEIGHT = 320, 240
 BOX = (120, 60, 200, 140)
@@ -225,3 +226,18 @@ def test_thin_objects_on_a_tiled_floor_stay_obstacles():
     assert mask[110:170, 240:250].mean() > 0.9
     assert not mask[:, :200][~np.isin(np.arange(HEIGHT), np.arange(148, 156))[:, None]
                              .repeat(200, axis=1)].any()
+
+
+def test_nothing_is_a_blend_on_a_floor_of_one_colour():
+    """The blend check is for seams between two floor colours: a faint streak of a rare
+    brightness on a plain floor (a highlight's tail) is not between two different floor
+    colours, so it is left to the histograms."""
+    image = floor_image((150, 160, 170), sigma=2.0)
+    image[120:123, 40:280] = (156, 166, 176)
+    raw = np.zeros(image.shape[:2], np.uint8)
+    raw[120:123, 40:280] = 255
+    assert not floor_blends(image, raw).any()
+    seam = tiled_floor_with_seams()
+    seam_raw = np.zeros(seam.shape[:2], np.uint8)
+    seam_raw[100:200, 228:233] = 255
+    assert floor_blends(seam, seam_raw)[100:200, 229:232].all()

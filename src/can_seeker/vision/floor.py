@@ -42,6 +42,10 @@ pixels it may be a blend of: a seam between two floor colours (tiles, boards, a 
 is a ramp of in-between colours as wide as the lens blur and texture filtering make it."""
 BLEND_TOLERANCE = 8
 """Grey levels per channel a blend may lie outside the range of the two floor pixels (noise)."""
+BLEND_SEAM_CONTRAST = 24
+"""Grey levels (largest over the channels) by which the floor pixels either side must differ for
+a seam to lie between them: on a floor of one colour nothing is a blend (a faint highlight or
+shading of it stays what the histograms say)."""
 BLEND_RUN_PX = 2 * BLEND_REACH_PX[-1] + 1
 """Only obstacle runs shorter than this along a row or a column can be blends."""
 BIN_TOLERANCE = 1
@@ -250,8 +254,9 @@ class FloorClassifier:
 def floor_blends(bgr: np.ndarray, raw: np.ndarray) -> np.ndarray:
     """Which obstacle pixels of ``raw`` (mono8, nonzero = obstacle) are blends of the floor: in
     a run of obstacle pixels shorter than BLEND_RUN_PX along their row or column, with floor
-    pixels BLEND_REACH_PX either side along it whose colours they lie between (within
-    BLEND_TOLERANCE in every channel). A seam between two floor colours is such a ramp of
+    pixels BLEND_REACH_PX either side along it that differ by BLEND_SEAM_CONTRAST and whose
+    colours they lie between (within BLEND_TOLERANCE in every channel). A seam between two
+    floor colours is such a ramp of
     colours that neither tile has, one to a few pixels wide, and looked an obstacle line
     running from the robot's feet; an object's own colour is not between the floor's either
     side of it, and its outline has the object on one side."""
@@ -278,6 +283,7 @@ def floor_blends(bgr: np.ndarray, raw: np.ndarray) -> np.ndarray:
             after = tuple(np.clip(index, 0, size - 1) for index, size in zip(after, raw.shape))
             floor_both = inside & ~obstacle[before] & ~obstacle[after]
             first, second = bgr[before].astype(np.int16), bgr[after].astype(np.int16)
+            floor_both &= np.abs(first - second).max(axis=1) >= BLEND_SEAM_CONTRAST
             between = np.all((colour >= np.minimum(first, second) - BLEND_TOLERANCE)
                              & (colour <= np.maximum(first, second) + BLEND_TOLERANCE), axis=1)
             explained |= floor_both & between
