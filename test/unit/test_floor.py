@@ -3,8 +3,7 @@ adaptation, and the tutorial's dark-threshold baseline."""
 import numpy as np
 import pytest
 
-from can_seeker.vision.floor import (FloorClassifier, FloorSettings, floor_blends,
-                                     reference_trapezoid)
+from can_seeker.vision.floor import FloorClassifier, FloorSettings, reference_trapezoid
 
 WIDTH, HEIGHT = 320, 240
 BOX = (120, 60, 200, 140)
@@ -181,63 +180,3 @@ def test_colour_gradient_is_bit_for_bit_the_float_computation(seed):
     reference = reference_colour_gradient(bgr)
     assert np.array_equal(colour_gradient(bgr), reference)
     assert np.array_equal(colour_gradient(bgr, where), reference[where])
-
-
-def tiled_floor_with_seams(ramp_px=7):
-    """Two tiles of a checker floor, light left and grey-green right, meeting at column 230 in a
-    ramp of in-between colours ``ramp_px`` wide (what texture filtering and lens blur make of
-    a tile edge close up), and a horizontal seam at row 60 under the same blend. The floor
-    model is learned from the seams drawn sharp (farther away they are): their in-between
-    colours are not in it."""
-    light, grey = np.array((226, 226, 226), float), np.array((167, 176, 172), float)
-    weight = np.clip((np.arange(WIDTH) - 230.0) / ramp_px + 0.5, 0.0, 1.0)[:, None]
-    row = (1.0 - weight) * light + weight * grey
-    image = np.repeat(row[None, :, :], HEIGHT, axis=0)
-    across = np.clip((np.arange(HEIGHT) - 60.0) / ramp_px + 0.5, 0.0, 1.0)[:, None, None]
-    image = (1.0 - across) * grey[None, None, :] + across * image
-    rng = np.random.default_rng(5)
-    return np.clip(image + rng.normal(0.0, 2.0, image.shape), 0, 255).astype(np.uint8)
-
-
-@pytest.mark.parametrize('ramp_px', [3, 7, 12])
-def test_a_seam_between_floor_tiles_is_floor(ramp_px):
-    """The in-between colours of a seam are in neither tile's histogram bins; they are blends
-    of the floor either side, not an obstacle line running from the robot's feet."""
-    classifier = FloorClassifier()
-    classifier.classify(tiled_floor_with_seams(ramp_px=0.01))
-    image = tiled_floor_with_seams(ramp_px)
-    assert (classifier._appearance_obstacles(image, None)[:, 225:236] > 0).any()
-    assert not classifier.classify(image).any()
-
-
-def test_thin_objects_on_a_tiled_floor_stay_obstacles():
-    """A dark pole 4 px wide standing on the seam, a mid-grey cable 3 px thick lying across
-    the light tile (its grey is between the tiles, but the light tile lies either side of it)
-    and a pale box beside the seam remain obstacles."""
-    image = tiled_floor_with_seams()
-    image[100:200, 228:232] = (40, 40, 40)
-    image[150:153, 20:200] = (190, 195, 192)
-    image[110:170, 240:250] = (250, 250, 250)
-    classifier = FloorClassifier()
-    classifier.classify(tiled_floor_with_seams(ramp_px=0.01))
-    mask = classifier.classify(image) > 0
-    assert mask[100:200, 228:232].mean() > 0.9
-    assert mask[150:153, 20:200].mean() > 0.9
-    assert mask[110:170, 240:250].mean() > 0.9
-    assert not mask[:, :200][~np.isin(np.arange(HEIGHT), np.arange(148, 156))[:, None]
-                             .repeat(200, axis=1)].any()
-
-
-def test_nothing_is_a_blend_on_a_floor_of_one_colour():
-    """The blend check is for seams between two floor colours: a faint streak of a rare
-    brightness on a plain floor (a highlight's tail) is not between two different floor
-    colours, so it is left to the histograms."""
-    image = floor_image((150, 160, 170), sigma=2.0)
-    image[120:123, 40:280] = (156, 166, 176)
-    raw = np.zeros(image.shape[:2], np.uint8)
-    raw[120:123, 40:280] = 255
-    assert not floor_blends(image, raw).any()
-    seam = tiled_floor_with_seams()
-    seam_raw = np.zeros(seam.shape[:2], np.uint8)
-    seam_raw[100:200, 228:233] = 255
-    assert floor_blends(seam, seam_raw)[100:200, 229:232].all()

@@ -36,18 +36,6 @@ CHROMA_SATURATION_MIN = 50
 """Pixels less saturated than this (0-255) have no reliable hue: they count as grey."""
 CHROMA_VALUE_MIN = 40
 """Pixels darker than this (0-255) have no reliable hue: they count as grey."""
-BLEND_REACH_PX = (2, 4, 8)
-"""How far either side (px, along a row and along a column) a pixel looks for the two floor
-pixels it may be a blend of: a seam between two floor colours (tiles, boards, a rug's edge)
-is a ramp of in-between colours as wide as the lens blur and texture filtering make it."""
-BLEND_TOLERANCE = 8
-"""Grey levels per channel a blend may lie outside the range of the two floor pixels (noise)."""
-BLEND_SEAM_CONTRAST = 24
-"""Grey levels (largest over the channels) by which the floor pixels either side must differ for
-a seam to lie between them: on a floor of one colour nothing is a blend (a faint highlight or
-shading of it stays what the histograms say)."""
-BLEND_RUN_PX = 2 * BLEND_REACH_PX[-1] + 1
-"""Only obstacle runs shorter than this along a row or a column can be blends."""
 BIN_TOLERANCE = 1
 """A pixel is floor-like when its bin or a neighbour (hue wraps around) is common in the model:
 tolerates shading across the floor."""
@@ -173,7 +161,6 @@ class FloorClassifier:
             raw = self._appearance_obstacles(bgr, ignore)
         if ignore is not None:
             raw[ignore > 0] = 0
-        raw[floor_blends(bgr, raw)] = 0
         return self._obstacle_regions(raw, bgr)
 
     def _features(self, bgr):
@@ -249,46 +236,6 @@ class FloorClassifier:
         if keep[1:].all():
             return opened
         return np.where(keep[labels], 255, 0).astype(np.uint8)
-
-
-def floor_blends(bgr: np.ndarray, raw: np.ndarray) -> np.ndarray:
-    """Which obstacle pixels of ``raw`` (mono8, nonzero = obstacle) are blends of the floor: in
-    a run of obstacle pixels shorter than BLEND_RUN_PX along their row or column, with floor
-    pixels BLEND_REACH_PX either side along it that differ by BLEND_SEAM_CONTRAST and whose
-    colours they lie between (within BLEND_TOLERANCE in every channel). A seam between two
-    floor colours is such a ramp of
-    colours that neither tile has, one to a few pixels wide, and looked an obstacle line
-    running from the robot's feet; an object's own colour is not between the floor's either
-    side of it, and its outline has the object on one side."""
-    obstacle = raw > 0
-    height, width = raw.shape
-    thin = np.zeros_like(obstacle)
-    for kernel in ((1, BLEND_RUN_PX), (BLEND_RUN_PX, 1)):
-        opened = cv2.morphologyEx(raw, cv2.MORPH_OPEN, np.ones(kernel, np.uint8))
-        thin |= obstacle & (opened == 0)
-    rows, columns = np.nonzero(thin)
-    blends = np.zeros_like(obstacle)
-    if len(rows) == 0:
-        return blends
-    colour = bgr[rows, columns].astype(np.int16)
-    explained = np.zeros(len(rows), bool)
-    for reach in BLEND_REACH_PX:
-        for along_rows in (True, False):
-            limit = width if along_rows else height
-            position = columns if along_rows else rows
-            inside = (position >= reach) & (position < limit - reach)
-            before, after = ((rows, columns - reach), (rows, columns + reach)) if along_rows \
-                else ((rows - reach, columns), (rows + reach, columns))
-            before = tuple(np.clip(index, 0, size - 1) for index, size in zip(before, raw.shape))
-            after = tuple(np.clip(index, 0, size - 1) for index, size in zip(after, raw.shape))
-            floor_both = inside & ~obstacle[before] & ~obstacle[after]
-            first, second = bgr[before].astype(np.int16), bgr[after].astype(np.int16)
-            floor_both &= np.abs(first - second).max(axis=1) >= BLEND_SEAM_CONTRAST
-            between = np.all((colour >= np.minimum(first, second) - BLEND_TOLERANCE)
-                             & (colour <= np.maximum(first, second) + BLEND_TOLERANCE), axis=1)
-            explained |= floor_both & between
-    blends[rows[explained], columns[explained]] = True
-    return blends
 
 
 def colour_gradient(bgr: np.ndarray, where: Optional[np.ndarray] = None) -> np.ndarray:
