@@ -352,11 +352,7 @@ class Controller:
         self.pose_s: Optional[float] = None
         self.scan_s: Dict[str, float] = {}
         self.why = ''
-        self.searched_rad = 0.0
-        self.goal_xy: Optional[np.ndarray] = None
-        self.path_xy: Optional[np.ndarray] = None
         self.planned_s = -math.inf
-        self.progress: Optional[Tuple[int, float]] = None
 
     # Inputs ----------------------------------------------------------------------------------
 
@@ -365,12 +361,14 @@ class Controller:
         return self.sighting.gap_m - self.config.stop_distance, self.sighting.bearing_rad
 
     def _enter(self, state: State) -> None:
+        """Switch to ``state`` with its per-state memory (turn searched, exploration goal and
+        path, progress, since when LOST faces the can's last place) started afresh."""
         self.state = state
         self.facing_lost_s: Optional[float] = None
         self.searched_rad = 0.0
-        self.goal_xy = None
-        self.path_xy = None
-        self.progress = None
+        self.goal_xy: Optional[np.ndarray] = None
+        self.path_xy: Optional[np.ndarray] = None
+        self.progress: Optional[Tuple[int, float]] = None
 
     def observe(self, sighting: Optional[Sighting], now_s: float,
                 image_stamp_s: float = math.inf) -> None:
