@@ -456,12 +456,17 @@ def test_backing_up_stops_for_a_remembered_obstacle_behind():
     def backing_up(obstacle_behind):
         controller = make_controller(scan_topics='/scan')
         controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+        ends, hits = CLEAR_SCAN
         if obstacle_behind:
-            controller.observe_scan('/scan', np.array([[-0.27, 0.0]]), np.array([True]), (0.0, 0.0), 0.0)
+            ends, hits = np.vstack((ends, [[-0.27, 0.0]])), np.append(hits, True)
+        controller.observe_scan('/scan', ends, hits, (0.0, 0.0), 0.0)
+        # then a sensor that looks ahead only: the obstacle behind is remembered
+        front = CLEAR_SCAN[0][:, 0] > 0.0
         now, command = 0.0, None
         for _ in range(40):
             controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
-            controller.observe_scan('/scan', np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0), now)
+            controller.observe_scan('/scan', CLEAR_SCAN[0][front], CLEAR_SCAN[1][front],
+                                    (0.0, 0.0), now)
             controller.observe(ahead(STOP - 0.1), now)
             command = controller.command(now)
             now += DT
@@ -518,8 +523,10 @@ def test_a_detection_stamped_in_the_future_ages_from_its_arrival():
 
 # Why the command is zero or limited, and fused scans ------------------------------------------
 
-CLEAR_SCAN = (np.array([[3.0, 0.0], [3.0, 1.0], [3.0, -1.0], [-3.0, 0.0]]),
-              np.array([False, False, False, False]))
+CLEAR_SCAN = (2.0 * np.stack((np.cos(np.radians(np.arange(360))),
+                               np.sin(np.radians(np.arange(360)))), axis=1),
+              np.zeros(360, bool))
+"""A lidar's scan of open floor: no return within 2 m all around."""
 TOO_CLOSE = STOP - 0.1
 """A can this far from the robot front: it backs up."""
 

@@ -737,12 +737,15 @@ class Controller:
             self._because('%s: no driving, only turning' % problems_text(problems))
             return 0.0, angular
         exclude = self.can_xy if self.state in (State.APPROACH, State.LOST) else None
-        free_m = self.navigator.free_travel_m(command, exclude, self.config.can_exclusion_radius)
+        radius = self.config.can_exclusion_radius
+        free_m = self.navigator.free_travel_m(command, exclude, radius)
         safe = avoidance.safe_linear(linear, free_m, self.config.max_linear_accel,
                                      SAFETY_RESERVE_M)
         if abs(safe) < abs(linear):
-            self._because('obstacle %s: %.2f m of free travel, speed capped at %.2f m/s'
-                          % ('ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
+            unknown = self.navigator.free_travel_m(command, exclude, radius, False) > free_m
+            self._because('%s %s: %.2f m of free travel, speed capped at %.2f m/s'
+                          % ('floor not yet seen' if unknown else 'obstacle',
+                             'ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
         return safe, angular
 
     def _settled(self, command: Tuple[float, float]) -> bool:

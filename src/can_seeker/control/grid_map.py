@@ -10,7 +10,13 @@ Two layers over the same square cells:
   cell also counts how long scans have had it in their blind zone since one last hit it: there
   no ray can confirm or clear it, so a phantom there can be told apart only by that time;
 - coverage: the floor the camera has looked at, up to the range at which it would have found
-  the can, stopping at obstacles. Exploration drives to where it has not looked yet.
+  the can, stopping at obstacles. Exploration drives to where it has not looked yet;
+- observed, on cells of half the size: the floor some scan ray has reached (free or hit), the
+  robot's body has covered, or the robot started on. The rest is unknown: a camera looking
+  ahead never saw what stands beside the robot, and a cell the rays call free may hold the
+  corner of an obstacle seen edge-on, so the safety layer treats unknown floor near the robot
+  as an obstacle. Half-size cells keep that corner's cell unknown where the coarse cell
+  around it was partly seen free.
 
 Arrays are indexed ``[ix, iy]``; cell (ix, iy) spans ``origin + (ix, iy) * resolution`` to one
 resolution further. Odom positions outside the grid are ignored.
@@ -23,6 +29,8 @@ import numpy as np
 HIT_EVIDENCE = 4
 MISS_EVIDENCE = 1
 EVIDENCE_LIMIT = 12
+OBSERVED_SUBDIVISION = 2
+"""Observed floor is kept on cells this many times finer than the obstacle grid's."""
 
 
 class GridMap:
@@ -34,6 +42,8 @@ class GridMap:
         self.origin_m = -self.cells * self.resolution_m / 2.0
         self.evidence = np.zeros((self.cells, self.cells), np.int16)
         self.seen = np.zeros((self.cells, self.cells), bool)
+        self.observed_resolution_m = self.resolution_m / OBSERVED_SUBDIVISION
+        self.observed = np.zeros((self.cells * OBSERVED_SUBDIVISION,) * 2, bool)
         self.blind_s = np.zeros((self.cells, self.cells))
         self.scan_s: Dict[str, float] = {}
         self.hit_xy = np.zeros((self.cells, self.cells, 2))
@@ -42,6 +52,7 @@ class GridMap:
         """Forget every obstacle and all coverage."""
         self.evidence[:] = 0
         self.seen[:] = False
+        self.observed[:] = False
         self.blind_s[:] = 0.0
         self.scan_s = {}
 
@@ -108,10 +119,34 @@ class GridMap:
         self.hit_xy[hx[first], hy[first]] = hit_xy[first]
         free &= ~hit
         blind &= ~hit
+        self._observe_rays(origin, directions, lengths, hits, clear_from_m)
         self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
         self.blind_s[hit] = 0.0
         self.blind_s[blind] += max(0.0, elapsed_s)
+
+    def _observe_rays(self, origin: np.ndarray, directions: np.ndarray, lengths: np.ndarray,
+                      hits: np.ndarray, clear_from_m: float) -> None:
+        """Mark the fine cells along the rays from ``clear_from_m`` on as observed, up to one
+        fine cell short of a hit, and the hit's own fine cell."""
+        step_m = self.observed_resolution_m / 2.0
+        free_lengths = np.where(hits, lengths - self.observed_resolution_m, lengths)
+        fractions = np.arange(int(np.ceil(max(float(lengths.max()), step_m) / step_m)) + 1) \
+            * step_m
+        points = origin[None, :, :] + fractions[None, :, None] * directions[:, None, :]
+        free = ((fractions[None, :] <= free_lengths[:, None])
+                & (fractions[None, :] >= clear_from_m))
+        ends = origin + lengths[hits][:, None] * directions[hits]
+        fx, fy, inside = self._fine_index(np.concatenate((points[free], ends)))
+        self.observed[fx[inside], fy[inside]] = True
+
+    def _fine_index(self, xy: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(fx, fy, inside) of odom points on the observed layer's cells (clipped outside)."""
+        ij = np.floor((np.asarray(xy, float).reshape(-1, 2) - self.origin_m)
+                      / self.observed_resolution_m).astype(int)
+        inside = np.all((ij >= 0) & (ij < len(self.observed)), axis=1)
+        ij = np.clip(ij, 0, len(self.observed) - 1)
+        return ij[:, 0], ij[:, 1], inside
 
     def _cells(self, xy: np.ndarray) -> np.ndarray:
         """Boolean grid of the cells holding any of the odom points ``xy`` (outside: none)."""
@@ -140,6 +175,48 @@ class GridMap:
         visible &= distances[None, :] >= near_m
         visible = visible.reshape(-1)
         self.seen[ix[visible], iy[visible]] = True
+
+    def mark_observed(self, centre_xy, radius_m: float) -> None:
+        """Count the fine cells whose centres lie within ``radius_m`` of odom point
+        ``centre_xy`` as observed free floor (under the robot's body: it stands there)."""
+        fx, fy = self._fine_window(centre_xy, radius_m)
+        if len(fx) == 0 or len(fy) == 0:
+            return
+        centres = self._fine_centres(*np.meshgrid(fx, fy, indexing='ij'))
+        near = np.linalg.norm(centres - np.asarray(centre_xy, float), axis=-1) <= radius_m
+        self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= near
+
+    def unknown_points(self, centre_xy, radius_m: float, max_blind_s: float = np.inf) -> np.ndarray:
+        """Odom centres (N x 2) of the fine cells within ``radius_m`` of ``centre_xy`` that
+        nothing has observed, outside remembered obstacle cells, and in cells that scans have had
+        in their blind zone for less than ``max_blind_s`` (no ray can ever observe one there, so
+        it is taken for floor then, as a remembered obstacle there is dropped)."""
+        fx, fy = self._fine_window(centre_xy, radius_m)
+        if len(fx) == 0 or len(fy) == 0:
+            return np.zeros((0, 2))
+        gx, gy = np.meshgrid(fx, fy, indexing='ij')
+        cx, cy = gx // OBSERVED_SUBDIVISION, gy // OBSERVED_SUBDIVISION
+        unknown = (~self.observed[gx, gy] & ~self.occupied()[cx, cy]
+                   & (self.blind_s[cx, cy] < max_blind_s))
+        points = self._fine_centres(gx[unknown], gy[unknown]).reshape(-1, 2)
+        near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
+        return points[near]
+
+    def _fine_centres(self, fx, fy) -> np.ndarray:
+        """Odom (x, y) of observed-layer cell centres (arrays broadcast)."""
+        return np.stack((self.origin_m + (np.asarray(fx) + 0.5) * self.observed_resolution_m,
+                         self.origin_m + (np.asarray(fy) + 0.5) * self.observed_resolution_m),
+                        axis=-1)
+
+    def _fine_window(self, centre_xy, radius_m: float) -> Tuple[np.ndarray, np.ndarray]:
+        """Index ranges (fx, fy) of the observed layer's cells in the square around
+        ``centre_xy`` holding the circle of ``radius_m`` (empty outside the grid)."""
+        centre = np.asarray(centre_xy, float)
+        low = np.floor((centre - radius_m - self.origin_m) / self.observed_resolution_m)
+        high = np.floor((centre + radius_m - self.origin_m) / self.observed_resolution_m)
+        low = np.maximum(low.astype(int), 0)
+        high = np.minimum(high.astype(int), len(self.observed) - 1)
+        return np.arange(low[0], high[0] + 1), np.arange(low[1], high[1] + 1)
 
     def obstacle_points(self, centre_xy, radius_m: float,
                         max_blind_s: float = np.inf) -> np.ndarray:

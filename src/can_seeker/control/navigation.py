@@ -4,7 +4,7 @@ frontier exploration and the safety layer, for the can_stopper controller (pure,
 The navigator is fed the odom pose, range scans as points in base_link and the camera's floor
 footprint; it answers with commands that reach a goal on a grid path and with the same
 command made safe (:func:`can_seeker.control.avoidance.safe_linear` on the free travel along
-its arc through the live scan and the remembered obstacles).
+its arc through the live scan, the remembered obstacles and the floor no sensor has observed).
 """
 import math
 from dataclasses import dataclass
@@ -83,14 +83,25 @@ class Navigator:
         self.robot_radius_m = robot_radius_m
         self.plan_margin_m = plan_margin_m
         self.safety_margin_m = safety_margin_m
-        self.pose: Optional[Pose2D] = None
+        self._pose: Optional[Pose2D] = None
         self.last_scans: Dict[str, Tuple[np.ndarray, Pose2D]] = {}
 
     def reset(self) -> None:
         """Forget the map, the pose and the last scans."""
         self.grid.clear()
-        self.pose = None
+        self._pose = None
         self.last_scans = {}
+
+    @property
+    def pose(self) -> Optional[Pose2D]:
+        """base_link in odom (None before the first odometry)."""
+        return self._pose
+
+    @pose.setter
+    def pose(self, pose: Pose2D) -> None:
+        """The robot is at ``pose``: the floor under its body is observed free."""
+        self._pose = pose
+        self.grid.mark_observed((pose.x, pose.y), self.robot_radius_m)
 
     def add_scan(self, ends_base: np.ndarray, hits: np.ndarray, origin_base: Sequence[float],
                  pose: Pose2D, range_min_m: float = 0.0, stamp_s: float = 0.0,
@@ -99,11 +110,14 @@ class Navigator:
         base_link (N x 2), where ``hits`` marks a return (else the ray ends at the range it
         vouches for), from the sensor at ``origin_base``, which is blind nearer than
         ``range_min_m``, at ``stamp_s``. Each sensor's last scan is kept: what any of them
-        sees is an obstacle."""
+        sees is an obstacle. The robot starts on free floor: a sensor's first scan counts its
+        blind zone as observed (no sensor could ever observe it from the start pose)."""
         ends = np.asarray(ends_base, float).reshape(-1, 2)
         hits = np.asarray(hits, bool).reshape(-1)
-        self.last_scans[source] = (ends[hits], pose)
         origin = avoidance.from_frame(np.asarray(origin_base, float), pose.x, pose.y, pose.yaw)
+        if source not in self.grid.scan_s:
+            self.grid.mark_observed(origin[0], range_min_m + self.grid.resolution_m)
+        self.last_scans[source] = (ends[hits], pose)
         self.grid.add_scan(origin[0], avoidance.from_frame(ends, pose.x, pose.y, pose.yaw), hits,
                            range_min_m, stamp_s, source)
 
@@ -153,10 +167,31 @@ class Navigator:
             odom_points, clearance = odom_points[keep], clearance[keep]
         return avoidance.to_frame(odom_points, pose.x, pose.y, pose.yaw), clearance
 
+    def unknown_base(self, exclude_xy: Optional[Sequence[float]] = None,
+                     exclude_radius_m: float = 0.0) -> Tuple[np.ndarray, float]:
+        """(points N x 2 in base_link now, clearance m) of the unknown cells around the robot
+        (see :meth:`GridMap.unknown_points`), without those near ``exclude_xy`` (odom): an
+        obstacle may stand anywhere in one, so the robot keeps ``robot_radius`` plus half a
+        (fine) cell diagonal from its centre."""
+        pose = self.pose
+        if pose is None:
+            return np.zeros((0, 2)), 0.0
+        points = self.grid.unknown_points((pose.x, pose.y), MEMORY_RADIUS_M, self.memory_s)
+        if exclude_xy is not None:
+            points = points[avoidance.far_from(points, exclude_xy, exclude_radius_m)]
+        return (avoidance.to_frame(points, pose.x, pose.y, pose.yaw),
+                self.robot_radius_m + self.grid.observed_resolution_m / math.sqrt(2.0))
+
     def free_travel_m(self, command: Tuple[float, float], exclude_xy=None,
-                      exclude_radius_m: float = 0.0) -> float:
-        """Free travel along the command's arc (m, up to the safety horizon)."""
+                      exclude_radius_m: float = 0.0, unknown: bool = True) -> float:
+        """Free travel along the command's arc (m, up to the safety horizon), short of the
+        obstacles and, unless ``unknown`` is false, of the floor no sensor has observed."""
         points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
+        if unknown:
+            unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
+            points = np.concatenate((points, unknown_points))
+            clearance = np.concatenate((clearance,
+                                        np.full(len(unknown_points), unknown_clearance)))
         return avoidance.free_travel_m(points, command[0], command[1], clearance,
                                        SAFETY_HORIZON_M)
 
