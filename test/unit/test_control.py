@@ -439,7 +439,7 @@ def read_with(name, value):
     ('max_angular_accel', True), ('explore_linear', 0.001), ('search_angular', 0.0),
     ('detection_timeout', 20.0), ('scan_timeout', math.nan), ('odom_timeout', 'slow'),
     ('robot_radius', -0.01), ('safety_margin', math.nan), ('stop_distance', 0.0),
-    ('obstacle_memory', 0.5), ('can_exclusion_radius', 2.0),
+    ('obstacle_memory', 0.5), ('can_exclusion_radius', 2.0), ('unknown_floor_wait', 0.1),
 ])
 def test_an_invalid_motion_bound_is_refused_never_replaced_by_its_default(name, bad):
     with pytest.raises(ValueError, match=name):

@@ -438,24 +438,26 @@ def test_the_floor_the_robot_drove_over_is_observed():
     assert drive_and_back_up(0.6) >= 0.6
 
 
-def test_unknown_floor_in_the_blind_zone_is_taken_for_floor_after_the_memory():
-    """No ray can observe the floor nearer than range_min: unknown floor that scans have had
-    there for ~obstacle_memory stops holding the robot (as a phantom obstacle there is
-    dropped), so a robot set down where it never looked is not stuck for ever: it turns, and
-    the floor around it passes through the blind zone."""
-    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, memory_s=10.0)
-    ahead = fan(-45.0, 45.0, 1.5)
+def test_unknown_floor_no_turn_can_observe_is_taken_for_floor_after_the_wait():
+    """No ray can observe the floor nearer than range_min to the sensor, whichever way the robot
+    turns: unknown floor that has been in that blind disc for ~unknown_floor_wait stops holding
+    the robot, so a robot set down where it never looked is not stuck for ever. Unknown floor
+    farther out stays unknown until a scan observes it."""
+    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, unknown_wait_s=5.0)
+    ahead = fan(-30.0, 30.0, 1.5)
 
-    def scan(yaw_deg, stamp_s):
-        navigator.pose = Pose2D(2.0, 0.0, math.radians(yaw_deg))
+    def scan(stamp_s):
         navigator.add_scan(ahead, np.zeros(len(ahead), bool), (0.0, 0.0), navigator.pose,
                            range_min_m=0.45, stamp_s=stamp_s)
 
     navigator.pose = Pose2D(0.0, 0.0, math.pi)
-    navigator.add_scan(ahead, np.zeros(len(ahead), bool), (0.0, 0.0), navigator.pose,
-                       range_min_m=0.45, stamp_s=0.0)
-    scan(0.0, 1.0)                                            # carried elsewhere
+    scan(0.0)
+    navigator.pose = Pose2D(2.0, 0.0, 0.0)                    # carried elsewhere
+    scan(1.0)
     assert navigator.free_travel_m((0.3, 0.0)) < 0.1
-    for turn in range(1, 91):                                 # three turns in 90 s
-        scan(12.0 * turn, 1.0 + turn)
+    for stamp_s in range(2, 8):
+        scan(float(stamp_s))
     assert navigator.free_travel_m((0.3, 0.0)) == 1.0
+    sharp_left = (0.1, 0.5)                                   # out to unknown floor beside
+    assert navigator.free_travel_m(sharp_left) < navigator.free_travel_m(sharp_left,
+                                                                         unknown=False)

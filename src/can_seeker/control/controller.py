@@ -163,6 +163,10 @@ PARAMS = (
           'have had it in their blind zone (nearer than range_min) for this long since one last '
           'saw it (no ray can clear a phantom there); out of view it is kept until a scan sees '
           'its place free (s)', 1.0, 600.0, safer='higher'),
+    Param('unknown_floor_wait', 5.0, 'the safety layer keeps the robot off floor no sensor has '
+          'observed; unknown floor that has been in a scan\'s blind disc (nearer than '
+          'range_min, where no turn can observe it) for this long is taken for floor (s)', 0.5,
+          600.0, safer='higher'),
     Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
           'ahead (m)', 0.05, 5.0),
 )
@@ -319,7 +323,7 @@ class Controller:
                                   config.max_linear_accel, config.max_angular_accel)
         self.navigator = Navigator(config.grid_resolution, config.map_size, config.robot_radius,
                                    config.plan_margin, config.safety_margin,
-                                   config.obstacle_memory)
+                                   config.obstacle_memory, config.unknown_floor_wait)
         self.camera_view: Optional[CameraView] = None
         self.reset()
 

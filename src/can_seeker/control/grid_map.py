@@ -16,7 +16,9 @@ Two layers over the same square cells:
   ahead never saw what stands beside the robot, and a cell the rays call free may hold the
   corner of an obstacle seen edge-on, so the safety layer treats unknown floor near the robot
   as an obstacle. Half-size cells keep that corner's cell unknown where the coarse cell
-  around it was partly seen free.
+  around it was partly seen free. Each coarse cell also counts how long it has been within a
+  scan's blind disc (nearer than range_min to the sensor, any bearing): from there no turn of
+  the robot can observe it.
 
 Arrays are indexed ``[ix, iy]``; cell (ix, iy) spans ``origin + (ix, iy) * resolution`` to one
 resolution further. Odom positions outside the grid are ignored.
@@ -45,6 +47,7 @@ class GridMap:
         self.observed_resolution_m = self.resolution_m / OBSERVED_SUBDIVISION
         self.observed = np.zeros((self.cells * OBSERVED_SUBDIVISION,) * 2, bool)
         self.blind_s = np.zeros((self.cells, self.cells))
+        self.blind_disc_s = np.zeros((self.cells, self.cells))
         self.scan_s: Dict[str, float] = {}
         self.hit_xy = np.zeros((self.cells, self.cells, 2))
 
@@ -54,6 +57,7 @@ class GridMap:
         self.seen[:] = False
         self.observed[:] = False
         self.blind_s[:] = 0.0
+        self.blind_disc_s[:] = 0.0
         self.scan_s = {}
 
     def forget_coverage(self) -> None:
@@ -88,11 +92,17 @@ class GridMap:
         ``source``: the floor along each ray from ``clear_from_m`` on is free, its end is an
         obstacle where ``hits`` is true (a ray without a return ends at the range it can vouch
         for). Nearer than ``clear_from_m`` the sensor is blind: what is remembered there stays,
-        and the time since the same sensor's previous scan is added to its blind time."""
+        and the time since the same sensor's previous scan is added to its blind time (along
+        the rays) and to the blind-disc time of every cell within ``clear_from_m``."""
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
         previous_s = self.scan_s.get(source)
         elapsed_s = 0.0 if previous_s is None else stamp_s - previous_s
         self.scan_s[source] = stamp_s
+        if clear_from_m > 0.0 and elapsed_s > 0.0:
+            ix, iy = self._window(origin_xy, clear_from_m)
+            centres = self.centre_of(*np.meshgrid(ix, iy, indexing='ij'))
+            disc = np.linalg.norm(centres - np.asarray(origin_xy, float), axis=-1) <= clear_from_m
+            self.blind_disc_s[np.ix_(ix, iy)] += np.where(disc, elapsed_s, 0.0)
         if len(ends_xy) == 0:
             return
         origin = np.asarray(origin_xy, float).reshape(1, 2)
@@ -188,19 +198,24 @@ class GridMap:
 
     def unknown_points(self, centre_xy, radius_m: float, max_blind_s: float = np.inf) -> np.ndarray:
         """Odom centres (N x 2) of the fine cells within ``radius_m`` of ``centre_xy`` that
-        nothing has observed, outside remembered obstacle cells, and in cells that scans have had
-        in their blind zone for less than ``max_blind_s`` (no ray can ever observe one there, so
-        it is taken for floor then, as a remembered obstacle there is dropped)."""
+        nothing has observed, outside remembered obstacle cells, and in cells that have been in
+        a scan's blind disc for less than ``max_blind_s`` (no ray can observe one from there, so
+        it is taken for floor then)."""
         fx, fy = self._fine_window(centre_xy, radius_m)
         if len(fx) == 0 or len(fy) == 0:
             return np.zeros((0, 2))
         gx, gy = np.meshgrid(fx, fy, indexing='ij')
         cx, cy = gx // OBSERVED_SUBDIVISION, gy // OBSERVED_SUBDIVISION
         unknown = (~self.observed[gx, gy] & ~self.occupied()[cx, cy]
-                   & (self.blind_s[cx, cy] < max_blind_s))
+                   & (self.blind_disc_s[cx, cy] < max_blind_s))
         points = self._fine_centres(gx[unknown], gy[unknown]).reshape(-1, 2)
         near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
         return points[near]
+
+    def _window(self, centre_xy, radius_m: float) -> Tuple[np.ndarray, np.ndarray]:
+        """Index ranges (ix, iy) of the cells in the square around ``centre_xy`` holding the
+        circle of ``radius_m`` (empty outside the grid)."""
+        return self._index_window(centre_xy, radius_m, self.resolution_m, self.cells)
 
     def _fine_centres(self, fx, fy) -> np.ndarray:
         """Odom (x, y) of observed-layer cell centres (arrays broadcast)."""
@@ -211,11 +226,15 @@ class GridMap:
     def _fine_window(self, centre_xy, radius_m: float) -> Tuple[np.ndarray, np.ndarray]:
         """Index ranges (fx, fy) of the observed layer's cells in the square around
         ``centre_xy`` holding the circle of ``radius_m`` (empty outside the grid)."""
+        return self._index_window(centre_xy, radius_m, self.observed_resolution_m,
+                                  len(self.observed))
+
+    def _index_window(self, centre_xy, radius_m: float, resolution_m: float,
+                      cells: int) -> Tuple[np.ndarray, np.ndarray]:
         centre = np.asarray(centre_xy, float)
-        low = np.floor((centre - radius_m - self.origin_m) / self.observed_resolution_m)
-        high = np.floor((centre + radius_m - self.origin_m) / self.observed_resolution_m)
-        low = np.maximum(low.astype(int), 0)
-        high = np.minimum(high.astype(int), len(self.observed) - 1)
+        low = np.floor((centre - radius_m - self.origin_m) / resolution_m).astype(int)
+        high = np.floor((centre + radius_m - self.origin_m) / resolution_m).astype(int)
+        low, high = np.maximum(low, 0), np.minimum(high, cells - 1)
         return np.arange(low[0], high[0] + 1), np.arange(low[1], high[1] + 1)
 
     def obstacle_points(self, centre_xy, radius_m: float,

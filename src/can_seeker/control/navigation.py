@@ -77,9 +77,11 @@ class Navigator:
     """Grid world model and the motions built on it. Units: m, rad, s; poses in odom."""
 
     def __init__(self, resolution_m: float, size_m: float, robot_radius_m: float,
-                 plan_margin_m: float, safety_margin_m: float, memory_s: float = np.inf):
+                 plan_margin_m: float, safety_margin_m: float, memory_s: float = np.inf,
+                 unknown_wait_s: float = np.inf):
         self.grid = GridMap(resolution_m, size_m)
         self.memory_s = memory_s
+        self.unknown_wait_s = unknown_wait_s
         self.robot_radius_m = robot_radius_m
         self.plan_margin_m = plan_margin_m
         self.safety_margin_m = safety_margin_m
@@ -176,7 +178,8 @@ class Navigator:
         pose = self.pose
         if pose is None:
             return np.zeros((0, 2)), 0.0
-        points = self.grid.unknown_points((pose.x, pose.y), MEMORY_RADIUS_M, self.memory_s)
+        points = self.grid.unknown_points((pose.x, pose.y), MEMORY_RADIUS_M,
+                                          self.unknown_wait_s)
         if exclude_xy is not None:
             points = points[avoidance.far_from(points, exclude_xy, exclude_radius_m)]
         return (avoidance.to_frame(points, pose.x, pose.y, pose.yaw),
