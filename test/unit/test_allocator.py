@@ -43,7 +43,11 @@ def faults_per_frame(mode):
 
 
 def test_frames_reuse_freed_memory_instead_of_faulting_in_fresh_pages():
-    default, reused = faults_per_frame('default'), faults_per_frame('reuse')
+    # How the socket splits the stream depends on scheduling (a loaded machine reads smaller
+    # chunks, and the reused run faults up to ~50 % of the default); the fewest of three runs
+    # each measures the allocator, not the load.
+    default = min(faults_per_frame('default') for _ in range(3))
+    reused = min(faults_per_frame('reuse') for _ in range(3))
     # A 640x480 bgr8 frame spans 225 pages; by default each frame faults in at least that many.
     assert default > 225
     assert reused < 0.5 * default
