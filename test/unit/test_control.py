@@ -679,3 +679,26 @@ def test_a_can_unseen_where_the_camera_would_see_its_base_is_lost():
     controller, gap_m = approach_with_the_base_leaving_the_image(1.5, 0.44, seen_near_m=0.7)
     assert controller.state is not State.STOPPED
     assert gap_m > 0.5
+
+
+def test_unknown_floor_beside_the_way_ahead_makes_the_robot_turn_to_look():
+    """A sensor that sees only a narrow wedge ahead: the floor just beside the way to the can
+    is unknown, so the robot does not drive; rather than stand there it turns to look at that
+    floor, and drives once a scan has observed it."""
+    controller = make_controller(scan_topics='/scan')
+    wedge = (CLEAR_SCAN[0][np.abs(np.arctan2(CLEAR_SCAN[0][:, 1], CLEAR_SCAN[0][:, 0]))
+                           < math.radians(20.0)],)
+    wedge += (np.zeros(len(wedge[0]), bool),)
+    now, command = 0.0, None
+    for _ in range(10):
+        controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
+        controller.observe_scan('/scan', *wedge, (0.0, 0.0), now, range_min_m=0.1)
+        controller.observe(ahead(1.0), now)
+        command = controller.command(now)
+        now += DT
+    assert command[0] == 0.0
+    assert abs(command[1]) > 0.0
+    assert controller.why.startswith('floor not yet seen ahead')
+    assert controller.why.endswith('turning to look at it')
+    command = drive_toward_can(controller, now, 1.0, ('/scan',))
+    assert command[0] > 0.1 and controller.why == ''

@@ -9,7 +9,7 @@ obstacle is one hit per map cell, the rest of it may stand nearer); the speed is
 deceleration limit stops it within that distance.
 """
 import math
-from typing import Sequence, Tuple, Union
+from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -38,9 +38,17 @@ def free_travel_m(points: np.ndarray, linear: float, angular: float,
     point comes within ``clearance_m`` of it (one value, or one per point). A point already
     within its clearance may not come any nearer: the robot may drive away from it, along
     it or around it, never toward it."""
+    return first_block(points, linear, angular, clearance_m, horizon_m)[0]
+
+
+def first_block(points: np.ndarray, linear: float, angular: float,
+                clearance_m: Union[float, np.ndarray],
+                horizon_m: float) -> Tuple[float, Optional[int]]:
+    """(free travel m, index of the point that ends it or None) along the command's arc (see
+    :func:`free_travel_m`)."""
     points = np.asarray(points, float).reshape(-1, 2)
     if len(points) == 0:
-        return horizon_m
+        return horizon_m, None
     clearance = np.broadcast_to(np.asarray(clearance_m, float), (len(points),))
     allowed = np.minimum(clearance, np.linalg.norm(points, axis=1))
     poses = arc_poses(linear, angular, horizon_m)
@@ -48,8 +56,9 @@ def free_travel_m(points: np.ndarray, linear: float, angular: float,
     touching = distances < allowed[None, :] - CLOSER_TOLERANCE_M
     blocked = np.nonzero(touching.any(axis=1))[0]
     if len(blocked) == 0:
-        return horizon_m
-    return max(0.0, float(blocked[0] - 1) * ARC_STEP_M)
+        return horizon_m, None
+    first = int(blocked[0])
+    return max(0.0, float(first - 1) * ARC_STEP_M), int(np.argmax(touching[first]))
 
 
 def safe_linear(linear: float, free_m: float, decel_mps2: float, reserve_m: float) -> float:

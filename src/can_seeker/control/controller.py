@@ -178,6 +178,9 @@ STALL_CELLS = 5
 DIRECT_GAP_M = 0.5
 STALL_S = 6.0
 NOT_THERE_S = 1.0
+LOOK_BELOW_FRACTION = 0.5
+"""A robot kept from driving by unknown floor and turning slower than this fraction of
+~search_angular turns to look at that floor instead."""
 """LOST within reach of where the can was seen last, facing it (within
 ~reapproach_bearing_deg, its base in view) without seeing it for this long (s): it is not
 there (moved, or a misplaced sighting put it there), so SEARCH at once instead of standing
@@ -730,9 +733,12 @@ class Controller:
                     else 'no obstacle sensing (no scan topics)')
         return '%s: %s' % (problems, consequence)
 
-    def _safe(self, command: Tuple[float, float], now_s: float) -> Tuple[float, float]:
+    def _safe(self, command: Tuple[float, float], now_s: float,
+              look: bool = False) -> Tuple[float, float]:
         """The safety layer: speed, forward or backward, within what the sensed obstacles
-        allow along the command's arc."""
+        allow along the command's arc. With ``look``, a robot that unknown floor ahead keeps
+        from driving, and that is not turning, turns toward that floor at ~search_angular so
+        the camera observes it (no turn is ever limited)."""
         linear, angular = command
         if not self.senses_obstacles or linear == 0.0:
             return command
@@ -747,9 +753,16 @@ class Controller:
                                      SAFETY_RESERVE_M)
         if abs(safe) < abs(linear):
             unknown = self.navigator.free_travel_m(command, exclude, radius, False) > free_m
-            self._because('%s %s: %.2f m of free travel, speed capped at %.2f m/s'
-                          % ('floor not yet seen' if unknown else 'obstacle',
-                             'ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
+            reason = ('%s %s: %.2f m of free travel, speed capped at %.2f m/s'
+                      % ('floor not yet seen' if unknown else 'obstacle',
+                         'ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
+            if (look and unknown and safe == 0.0 and linear > 0.0
+                    and abs(angular) < LOOK_BELOW_FRACTION * self.config.search_angular):
+                point = self.navigator.unknown_blocking(command, exclude, radius)
+                if point is not None:
+                    angular = math.copysign(self.config.search_angular, point[1] or 1.0)
+                    reason += ', turning to look at it'
+            self._because(reason)
         return safe, angular
 
     def _settled(self, command: Tuple[float, float]) -> bool:
@@ -800,7 +813,7 @@ class Controller:
         if self.state is State.LOST and now_s - self.lost_since_s > self.config.lost_timeout:
             self._enter(State.SEARCH)
         desired = require_finite(self.desired(now_s), '%s command' % self.state.value)
-        desired = self._safe(desired, now_s)
+        desired = self._safe(desired, now_s, look=True)
         linear, angular = self._safe(limit_twist(self.last_command, desired, dt_s, self.limits),
                                      now_s)
         self._note_progress(now_s)

@@ -198,6 +198,15 @@ class Navigator:
         return avoidance.free_travel_m(points, command[0], command[1], clearance,
                                        SAFETY_HORIZON_M)
 
+    def unknown_blocking(self, command: Tuple[float, float], exclude_xy=None,
+                         exclude_radius_m: float = 0.0) -> Optional[np.ndarray]:
+        """The unknown floor point (base_link) that first ends the command's free travel
+        among the unknown points alone, or None."""
+        points, clearance = self.unknown_base(exclude_xy, exclude_radius_m)
+        _, index = avoidance.first_block(points, command[0], command[1], clearance,
+                                         SAFETY_HORIZON_M)
+        return None if index is None else points[index]
+
     def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
                       margin_m: Optional[float] = None) -> np.ndarray:
         """Cells the robot's centre must not enter: obstacles grown by radius plus margin."""
