@@ -196,18 +196,19 @@ class GridMap:
         near = np.linalg.norm(centres - np.asarray(centre_xy, float), axis=-1) <= radius_m
         self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= near
 
-    def unknown_points(self, centre_xy, radius_m: float, max_blind_s: float = np.inf) -> np.ndarray:
+    def unknown_points(self, centre_xy, radius_m: float,
+                       max_blind_disc_s: float = np.inf) -> np.ndarray:
         """Odom centres (N x 2) of the fine cells within ``radius_m`` of ``centre_xy`` that
         nothing has observed, outside remembered obstacle cells, and in cells that have been in
-        a scan's blind disc for less than ``max_blind_s`` (no ray can observe one from there, so
-        it is taken for floor then)."""
+        a scan's blind disc for less than ``max_blind_disc_s`` (no ray can observe one from
+        there, so it is taken for floor then)."""
         fx, fy = self._fine_window(centre_xy, radius_m)
         if len(fx) == 0 or len(fy) == 0:
             return np.zeros((0, 2))
         gx, gy = np.meshgrid(fx, fy, indexing='ij')
         cx, cy = gx // OBSERVED_SUBDIVISION, gy // OBSERVED_SUBDIVISION
         unknown = (~self.observed[gx, gy] & ~self.occupied()[cx, cy]
-                   & (self.blind_disc_s[cx, cy] < max_blind_s))
+                   & (self.blind_disc_s[cx, cy] < max_blind_disc_s))
         points = self._fine_centres(gx[unknown], gy[unknown]).reshape(-1, 2)
         near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
         return points[near]
@@ -231,6 +232,8 @@ class GridMap:
 
     def _index_window(self, centre_xy, radius_m: float, resolution_m: float,
                       cells: int) -> Tuple[np.ndarray, np.ndarray]:
+        """Index ranges of the square around ``centre_xy`` holding the circle of ``radius_m``
+        on a layer of ``cells`` x ``cells`` cells of ``resolution_m``, clipped to it."""
         centre = np.asarray(centre_xy, float)
         low = np.floor((centre - radius_m - self.origin_m) / resolution_m).astype(int)
         high = np.floor((centre + radius_m - self.origin_m) / resolution_m).astype(int)

@@ -13,9 +13,10 @@ view); angles span the camera's view as seen from that origin, increasing to the
 ``max_range``); range_min the nearest floor distance in view. A direction whose floor leaves
 the image before range_max (at the image's sides: seen from the scan origin behind the camera,
 the view's edges are not rays, and the image's top row is a line, not an arc) cannot vouch for
-free floor up to range_max: without an obstacle its range is NaN (not measured). An obstacle already at the image's bottom edge is reported at the
-bottom row's floor distance: it is at most that far. The target can is no obstacle; where it
-hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
+free floor up to range_max: without an obstacle its range is NaN (not measured). An obstacle
+already at the image's bottom edge is reported at the bottom row's floor distance: it is at
+most that far. The target can is no obstacle; where it hides the floor right behind it and
+nothing nearer is seen, the range is NaN (not measured).
 """
 import math
 from dataclasses import dataclass
