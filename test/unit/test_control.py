@@ -684,57 +684,21 @@ def test_a_can_unseen_where_the_camera_would_see_its_base_is_lost():
 def test_unknown_floor_beside_the_way_ahead_makes_the_robot_turn_to_look():
     """A sensor that sees only a narrow wedge ahead: the floor just beside the way to the can
     is unknown, so the robot does not drive; rather than stand there it turns to look at that
-    floor, keeps turning the same way while it is out of view, and drives once a scan has
-    observed it."""
+    floor, and drives once a scan has observed it."""
     controller = make_controller(scan_topics='/scan')
-    controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(20.0), 0.3, 2.0))
     wedge = (CLEAR_SCAN[0][np.abs(np.arctan2(CLEAR_SCAN[0][:, 1], CLEAR_SCAN[0][:, 0]))
                            < math.radians(20.0)],)
     wedge += (np.zeros(len(wedge[0]), bool),)
-    now, commands, whys = 0.0, [], []
-    for _ in range(20):
+    now, command = 0.0, None
+    for _ in range(10):
         controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
         controller.observe_scan('/scan', *wedge, (0.0, 0.0), now, range_min_m=0.1)
         controller.observe(ahead(1.0), now)
-        commands.append(controller.command(now))
-        whys.append(controller.why)
+        command = controller.command(now)
         now += DT
-    assert whys[0].startswith('floor not yet seen ahead')
-    assert whys[0].endswith('turning to look at the unknown floor')
-    assert all(why == 'looking at the unknown floor that held it back' for why in whys[1:])
-    assert all(linear == 0.0 for linear, _ in commands)
-    turns = [angular for _, angular in commands[1:]]
-    assert abs(turns[-1]) > 0.5 and all(angular * turns[-1] >= 0.0 for angular in turns)
+    assert command[0] == 0.0
+    assert abs(command[1]) > 0.0
+    assert controller.why.startswith('floor not yet seen ahead')
+    assert controller.why.endswith('turning to look at it')
     command = drive_toward_can(controller, now, 1.0, ('/scan',))
     assert command[0] > 0.1 and controller.why == ''
-
-
-def test_a_remembered_obstacle_out_of_view_that_holds_the_robot_is_looked_at():
-    """A remembered return beside the way ahead, out of the camera's view, keeps a forward
-    command at zero: the safety layer starts a look, which turns toward it until it is in view,
-    holds it there for a moment (the rays through a phantom's place clear it), and ends once
-    nothing out of sight holds the command back."""
-    controller = make_controller(scan_topics='/camera_scan')
-    controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(20.0), 0.3, 2.0))
-    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
-    everywhere = np.vstack((CLEAR_SCAN[0], [[0.1, 0.26]]))
-    controller.observe_scan('/camera_scan', everywhere, np.append(CLEAR_SCAN[1], True),
-                            (0.0, 0.0), 0.0, range_min_m=0.2)
-    controller.observe(ahead(1.0), 0.0)
-    forward = (0.3, 0.0)
-    assert controller._safe(forward, 0.1, look=True) == (0.0, 0.0)
-    assert controller.why.endswith('turning to look at the remembered obstacle')
-    linear, angular = controller._looking(forward, 0.1)
-    assert linear == 0.0 and angular == pytest.approx(DEFAULTS['search_angular'])
-    controller.observe_pose(Pose2D(0.0, 0.0, math.radians(75.0)), 0.2)   # turned to it
-    assert controller._looking(forward, 0.2) == (0.0, 0.0)                # holds it in view
-    wedge = CLEAR_SCAN[0][np.abs(np.arctan2(CLEAR_SCAN[0][:, 1], CLEAR_SCAN[0][:, 0]))
-                          < math.radians(20.0)]
-    for step in range(8):                                                 # rays clear it
-        controller.observe_scan('/camera_scan', wedge, np.zeros(len(wedge), bool), (0.0, 0.0),
-                                0.3 + 0.05 * step, range_min_m=0.2)
-    assert not controller.navigator.grid.occupied()[
-        controller.navigator.grid.cell_of(0.1, 0.26)]
-    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.8)
-    assert controller._looking(forward, 0.8) == forward                   # nothing holds it
-    assert controller.look is None

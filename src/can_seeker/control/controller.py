@@ -179,16 +179,8 @@ DIRECT_GAP_M = 0.5
 STALL_S = 6.0
 NOT_THERE_S = 1.0
 LOOK_BELOW_FRACTION = 0.5
-"""A robot kept from driving by a remembered obstacle or unknown floor out of the camera's
-view, turning slower than this fraction of ~search_angular, turns to look at it instead."""
-LOOK_IN_VIEW_FRACTION = 0.8
-"""A looked-at point is in view within this fraction of the camera's half field of view."""
-LOOK_HOLD_S = 1.0
-"""A look ends after the point has been this long in view (s): the rays through a phantom's
-cell clear it in about a dozen frames."""
-LOOK_MAX_S = 6.0
-"""A look ends after this long in any case (s; a half turn at 0.8 rad/s takes 4 s)."""
-LOOKING_STATES = ('APPROACH', 'EXPLORE', 'LOST')
+"""A robot kept from driving by unknown floor and turning slower than this fraction of
+~search_angular turns to look at that floor instead."""
 """LOST within reach of where the can was seen last, facing it (within
 ~reapproach_bearing_deg, its base in view) without seeing it for this long (s): it is not
 there (moved, or a misplaced sighting put it there), so SEARCH at once instead of standing
@@ -236,16 +228,6 @@ class Sighting:
     def has_range(self) -> bool:
         """True when the gap is known, so the controller can drive on it."""
         return math.isfinite(self.gap_m)
-
-
-class Look(NamedTuple):
-    """A look at an odom point (m) that held the robot back, ``what`` it is, since when (s),
-    and since when it is in the camera's view (s, None before)."""
-
-    xy: Tuple[float, float]
-    what: str
-    started_s: float
-    in_view_s: Optional[float] = None
 
 
 class MissingInput(NamedTuple):
@@ -378,7 +360,6 @@ class Controller:
         self.scan_s: Dict[str, float] = {}
         self.why = ''
         self.planned_s = -math.inf
-        self.look: Optional[Look] = None
 
     # Inputs ----------------------------------------------------------------------------------
 
@@ -755,9 +736,9 @@ class Controller:
     def _safe(self, command: Tuple[float, float], now_s: float,
               look: bool = False) -> Tuple[float, float]:
         """The safety layer: speed, forward or backward, within what the sensed obstacles
-        allow along the command's arc. With ``look``, a robot that a remembered obstacle or
-        unknown floor out of the camera's view keeps from driving, and that is not turning,
-        starts a look at it (:meth:`_looking`)."""
+        allow along the command's arc. With ``look``, a robot that unknown floor ahead keeps
+        from driving, and that is not turning, turns toward that floor at ~search_angular so
+        the camera observes it (no turn is ever limited)."""
         linear, angular = command
         if not self.senses_obstacles or linear == 0.0:
             return command
@@ -775,60 +756,14 @@ class Controller:
             reason = ('%s %s: %.2f m of free travel, speed capped at %.2f m/s'
                       % ('floor not yet seen' if unknown else 'obstacle',
                          'ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
-            if (look and safe == 0.0 and linear > 0.0 and self.look is None
-                    and self.camera_view is not None and self.state.value in LOOKING_STATES
+            if (look and unknown and safe == 0.0 and linear > 0.0
                     and abs(angular) < LOOK_BELOW_FRACTION * self.config.search_angular):
-                block = self.navigator.out_of_sight_block(command, exclude, radius)
-                if (block is not None and block[0] <= free_m + avoidance.ARC_STEP_M
-                        and not self._in_camera_view(block[1])):
-                    pose = self.navigator.pose
-                    point = avoidance.from_frame(block[1], pose.x, pose.y, pose.yaw)[0]
-                    self.look = Look(tuple(point), block[2], now_s)
-                    reason += ', turning to look at the %s' % block[2]
+                point = self.navigator.unknown_blocking(command, exclude, radius)
+                if point is not None:
+                    angular = math.copysign(self.config.search_angular, point[1] or 1.0)
+                    reason += ', turning to look at it'
             self._because(reason)
         return safe, angular
-
-    def _in_camera_view(self, point_base: np.ndarray) -> bool:
-        """Whether a base_link point lies within the camera's field of view (the inner
-        ``LOOK_IN_VIEW_FRACTION`` of it); False without a camera view."""
-        view = self.camera_view
-        if view is None:
-            return False
-        bearing = avoidance.wrap_angle(math.atan2(point_base[1] - view.y, point_base[0] - view.x)
-                                       - view.yaw)
-        return abs(bearing) <= LOOK_IN_VIEW_FRACTION * view.half_fov_rad
-
-    def _looking(self, desired: Tuple[float, float], now_s: float) -> Tuple[float, float]:
-        """While a look lasts, turn in place toward its point at ~search_angular instead of
-        ``desired``, then hold still with it in the camera's view for ``LOOK_HOLD_S`` (a
-        phantom beyond range_min is cleared by the rays through it; one nearer, or unknown floor
-        there, sits in the blind zone, where its time runs out). The look ends sooner when
-        nothing out of sight holds ``desired`` back any more, after ``LOOK_MAX_S`` in any case,
-        and outside APPROACH, EXPLORE and LOST."""
-        look, pose, view = self.look, self.navigator.pose, self.camera_view
-        if look is None:
-            return desired
-        done = (self.state.value not in LOOKING_STATES or pose is None or view is None
-                or now_s - look.started_s > LOOK_MAX_S)
-        if not done and desired[0] > 0.0:
-            exclude = self.can_xy if self.state in (State.APPROACH, State.LOST) else None
-            block = self.navigator.out_of_sight_block(desired, exclude,
-                                                      self.config.can_exclusion_radius)
-            done = block is None or block[0] > SAFETY_RESERVE_M + avoidance.ARC_STEP_M
-        if done:
-            self.look = None
-            return desired
-        point = avoidance.to_frame(np.array(look.xy), pose.x, pose.y, pose.yaw)[0]
-        self._because('looking at the %s that held it back' % look.what)
-        if self._in_camera_view(point):
-            if look.in_view_s is None:
-                self.look = look = look._replace(in_view_s=now_s)
-            if now_s - look.in_view_s >= LOOK_HOLD_S:
-                self.look = None
-                return desired
-            return 0.0, 0.0
-        bearing = math.atan2(point[1] - view.y, point[0] - view.x) - view.yaw
-        return 0.0, math.copysign(self.config.search_angular, avoidance.wrap_angle(bearing))
 
     def _settled(self, command: Tuple[float, float]) -> bool:
         """True when APPROACH has arrived: within both tolerances and at rest."""
@@ -878,7 +813,7 @@ class Controller:
         if self.state is State.LOST and now_s - self.lost_since_s > self.config.lost_timeout:
             self._enter(State.SEARCH)
         desired = require_finite(self.desired(now_s), '%s command' % self.state.value)
-        desired = self._safe(self._looking(desired, now_s), now_s, look=True)
+        desired = self._safe(desired, now_s, look=True)
         linear, angular = self._safe(limit_twist(self.last_command, desired, dt_s, self.limits),
                                      now_s)
         self._note_progress(now_s)

@@ -154,22 +154,13 @@ class Navigator:
         obstacle out of the sensor's view stays until a scan sees its place free; one that
         scans have had in their blind zone for ``memory_s`` is dropped (there no ray can clear
         a phantom, which would otherwise block the robot for ever)."""
-        return self._points_base(True, True, exclude_xy, exclude_radius_m)
-
-    def _points_base(self, live: bool, remembered: bool, exclude_xy,
-                     exclude_radius_m: float) -> Tuple[np.ndarray, np.ndarray]:
-        """(points in base_link, clearances) of the sensors' last scans and/or the remembered
-        cells (see :meth:`obstacles_base`)."""
         pose = self.pose
         if pose is None:
             return np.zeros((0, 2)), np.zeros(0)
         clearance_m = self.robot_radius_m + self.safety_margin_m
-        points, clearances = [np.zeros((0, 2))], [np.zeros(0)]
-        if remembered:
-            cells = self.grid.obstacle_points((pose.x, pose.y), MEMORY_RADIUS_M, self.memory_s)
-            points.append(cells)
-            clearances.append(np.full(len(cells), clearance_m + self.cell_spread_m))
-        for scan_points, scan in self.last_scans.values() if live else ():
+        cells = self.grid.obstacle_points((pose.x, pose.y), MEMORY_RADIUS_M, self.memory_s)
+        points, clearances = [cells], [np.full(len(cells), clearance_m + self.cell_spread_m)]
+        for scan_points, scan in self.last_scans.values():
             points.append(avoidance.from_frame(scan_points, scan.x, scan.y, scan.yaw))
             clearances.append(np.full(len(scan_points), clearance_m))
         odom_points, clearance = np.concatenate(points), np.concatenate(clearances)
@@ -207,22 +198,14 @@ class Navigator:
         return avoidance.free_travel_m(points, command[0], command[1], clearance,
                                        SAFETY_HORIZON_M)
 
-    def out_of_sight_block(self, command: Tuple[float, float], exclude_xy=None,
-                           exclude_radius_m: float = 0.0
-                           ) -> Optional[Tuple[float, np.ndarray, str]]:
-        """(free travel m, point in base_link, what it is) of the first point along the
-        command's arc among those no live scan shows: remembered obstacle cells and unknown
-        floor; None when none of them is in the way."""
-        cells, cell_clearance = self._points_base(False, True, exclude_xy, exclude_radius_m)
-        unknown, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
-        points = np.concatenate((cells, unknown))
-        clearance = np.concatenate((cell_clearance, np.full(len(unknown), unknown_clearance)))
-        travel_m, index = avoidance.first_block(points, command[0], command[1], clearance,
-                                                SAFETY_HORIZON_M)
-        if index is None:
-            return None
-        return (travel_m, points[index],
-                'remembered obstacle' if index < len(cells) else 'unknown floor')
+    def unknown_blocking(self, command: Tuple[float, float], exclude_xy=None,
+                         exclude_radius_m: float = 0.0) -> Optional[np.ndarray]:
+        """The unknown floor point (base_link) that first ends the command's free travel
+        among the unknown points alone, or None."""
+        points, clearance = self.unknown_base(exclude_xy, exclude_radius_m)
+        _, index = avoidance.first_block(points, command[0], command[1], clearance,
+                                         SAFETY_HORIZON_M)
+        return None if index is None else points[index]
 
     def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
                       margin_m: Optional[float] = None) -> np.ndarray:
