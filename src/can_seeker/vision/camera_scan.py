@@ -9,14 +9,10 @@ bin keeping its nearest point, as depthimage_to_laserscan does for depth images.
 Conventions (REP-117): ranges are horizontal distances (m) from the scan frame's origin to
 the obstacle's base; +inf where the camera sees floor up to the scan's range_max (nothing in
 view); angles span the camera's view as seen from that origin, increasing to the left
-(REP-103). range_max is how far the camera sees the floor along its optical axis (capped by
-``max_range``); range_min the nearest floor distance in view. A direction whose floor leaves
-the image before range_max (at the image's sides: seen from the scan origin behind the camera,
-the view's edges are not rays, and the image's top row is a line, not an arc) cannot vouch for
-free floor up to range_max: without an obstacle its range is NaN (not measured). An obstacle
-already at the image's bottom edge is reported at the bottom row's floor distance: it is at
-most that far. The target can is no obstacle; where it hides the floor right behind it and
-nothing nearer is seen, the range is NaN (not measured).
+(REP-103). range_max is the farthest floor distance in view (capped by ``max_range``);
+range_min the nearest. An obstacle already at the image's bottom edge is reported at the
+bottom row's floor distance: it is at most that far. The target can is no obstacle; where it
+hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
 """
 import math
 from dataclasses import dataclass
@@ -45,9 +41,6 @@ SCAN_PARAMS = (
 CAN_MARGIN = 0.25
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
 width sideways, so a can's silver rims and white band are not obstacles either."""
-REACH_TOLERANCE = 0.01
-"""A scan bin sees the floor up to range_max when the floor this fraction short of it along the
-bin's angle is in the image (the top edge along the optical axis is exactly range_max)."""
 
 
 @dataclass(frozen=True)
@@ -57,8 +50,7 @@ class ScanGeometry:
     ``range_m``/``angle_rad`` (H x W) are the range and angle of the floor point under each
     pixel's lower edge (NaN where the ray misses the floor or is beyond ``range_max``);
     ``edge_angle_rad`` (H x W+1) the angles at the pixels' left/right edges. Scan bins are
-    ``angle_min + i * angle_increment`` (rad), ``bins`` of them; ``sees_range_max`` (bins)
-    says in which of them the floor is in view up to ``range_max``.
+    ``angle_min + i * angle_increment`` (rad), ``bins`` of them.
     """
 
     range_m: np.ndarray
@@ -70,7 +62,6 @@ class ScanGeometry:
     bins: int
     range_min: float
     range_max: float
-    sees_range_max: np.ndarray
 
     @property
     def angle_max(self) -> float:
@@ -114,31 +105,11 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
     else:
         increment = (angle_max - angle_min) / width
     bins = max(1, int(math.ceil((angle_max - angle_min) / increment)))
-    first_angle = angle_min + increment / 2.0
-    axis_range, _ = _floor_polar(pose, intrinsics, np.array([intrinsics.cx]), np.array([0.0]))
-    range_max = (min(max_range_m, float(axis_range[0])) if np.isfinite(axis_range[0])
-                 else max_range_m)
     return ScanGeometry(np.where(in_range, range_m, np.nan), np.where(in_range, angle, np.nan),
                         np.where(edge_in_range, edge_angle, np.nan), in_range,
-                        first_angle, increment, bins,
-                        float(np.nanmin(range_m[in_range])), range_max,
-                        _in_image(pose, intrinsics, first_angle + increment * np.arange(bins),
-                                  range_max * (1.0 - REACH_TOLERANCE)))
-
-
-def _in_image(pose: CameraPose, intrinsics: CameraIntrinsics, angles_rad: np.ndarray,
-              range_m: float) -> np.ndarray:
-    """Whether the floor points ``range_m`` from the scan origin at ``angles_rad`` are in the
-    image."""
-    points = np.stack((range_m * np.cos(angles_rad), range_m * np.sin(angles_rad),
-                       np.zeros_like(angles_rad)), axis=1)
-    optical = (points - np.asarray(pose.position)) @ pose.rotation
-    ahead = optical[:, 2] > 1e-6
-    depth = np.where(ahead, optical[:, 2], 1.0)
-    u = intrinsics.fx * optical[:, 0] / depth + intrinsics.cx
-    v = intrinsics.fy * optical[:, 1] / depth + intrinsics.cy
-    return (ahead & (u >= -0.5) & (u <= intrinsics.width - 0.5) & (v >= 0.0)
-            & (v <= intrinsics.height))
+                        angle_min + increment / 2.0, increment, bins,
+                        float(np.nanmin(range_m[in_range])),
+                        float(np.nanmax(range_m[in_range])))
 
 
 HIDDEN = -2
@@ -217,7 +188,6 @@ def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray,
         bins, owners = _spread(first, last)
         np.minimum.at(ranges, bins, geometry.range_m[rows, columns][valid][owners])
     ranges[hidden_bins & np.isinf(ranges)] = np.nan
-    ranges[~geometry.sees_range_max & np.isinf(ranges)] = np.nan
     return ranges.astype(np.float32)
 
 
