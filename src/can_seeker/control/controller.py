@@ -748,20 +748,18 @@ class Controller:
             return 0.0, angular
         exclude = self.can_xy if self.state in (State.APPROACH, State.LOST) else None
         radius = self.config.can_exclusion_radius
-        free_m = self.navigator.free_travel_m(command, exclude, radius)
+        free_m, unknown_point = self.navigator.safety_block(command, exclude, radius)
         safe = avoidance.safe_linear(linear, free_m, self.config.max_linear_accel,
                                      SAFETY_RESERVE_M)
         if abs(safe) < abs(linear):
-            unknown = self.navigator.free_travel_m(command, exclude, radius, False) > free_m
+            unknown = unknown_point is not None
             reason = ('%s %s: %.2f m of free travel, speed capped at %.2f m/s'
                       % ('floor not yet seen' if unknown else 'obstacle',
                          'ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
             if (look and unknown and safe == 0.0 and linear > 0.0
                     and abs(angular) < LOOK_BELOW_FRACTION * self.config.search_angular):
-                point = self.navigator.unknown_blocking(command, exclude, radius)
-                if point is not None:
-                    angular = math.copysign(self.config.search_angular, point[1] or 1.0)
-                    reason += ', turning to look at it'
+                angular = math.copysign(self.config.search_angular, unknown_point[1] or 1.0)
+                reason += ', turning to look at it'
             self._because(reason)
         return safe, angular
 

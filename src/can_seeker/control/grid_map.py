@@ -207,7 +207,7 @@ class GridMap:
             return np.zeros((0, 2))
         gx, gy = np.meshgrid(fx, fy, indexing='ij')
         cx, cy = gx // OBSERVED_SUBDIVISION, gy // OBSERVED_SUBDIVISION
-        unknown = (~self.observed[gx, gy] & ~self.occupied()[cx, cy]
+        unknown = (~self.observed[gx, gy] & (self.evidence[cx, cy] <= 0)
                    & (self.blind_disc_s[cx, cy] < max_blind_disc_s))
         points = self._fine_centres(gx[unknown], gy[unknown]).reshape(-1, 2)
         near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m

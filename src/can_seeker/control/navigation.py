@@ -189,23 +189,26 @@ class Navigator:
                       exclude_radius_m: float = 0.0, unknown: bool = True) -> float:
         """Free travel along the command's arc (m, up to the safety horizon), short of the
         obstacles and, unless ``unknown`` is false, of the floor no sensor has observed."""
-        points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
         if unknown:
-            unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
-            points = np.concatenate((points, unknown_points))
-            clearance = np.concatenate((clearance,
-                                        np.full(len(unknown_points), unknown_clearance)))
+            return self.safety_block(command, exclude_xy, exclude_radius_m)[0]
+        points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
         return avoidance.free_travel_m(points, command[0], command[1], clearance,
                                        SAFETY_HORIZON_M)
 
-    def unknown_blocking(self, command: Tuple[float, float], exclude_xy=None,
-                         exclude_radius_m: float = 0.0) -> Optional[np.ndarray]:
-        """The unknown floor point (base_link) that first ends the command's free travel
-        among the unknown points alone, or None."""
-        points, clearance = self.unknown_base(exclude_xy, exclude_radius_m)
-        _, index = avoidance.first_block(points, command[0], command[1], clearance,
-                                         SAFETY_HORIZON_M)
-        return None if index is None else points[index]
+    def safety_block(self, command: Tuple[float, float], exclude_xy=None,
+                     exclude_radius_m: float = 0.0) -> Tuple[float, Optional[np.ndarray]]:
+        """(free travel m along the command's arc, short of obstacles and unknown floor; the
+        unknown floor point in base_link that ends it, None when an obstacle or nothing does),
+        in one pass."""
+        points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
+        unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
+        travel_m, index = avoidance.first_block(
+            np.concatenate((points, unknown_points)), command[0], command[1],
+            np.concatenate((clearance, np.full(len(unknown_points), unknown_clearance))),
+            SAFETY_HORIZON_M)
+        if index is None or index < len(points):
+            return travel_m, None
+        return travel_m, unknown_points[index - len(points)]
 
     def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
                       margin_m: Optional[float] = None) -> np.ndarray:
