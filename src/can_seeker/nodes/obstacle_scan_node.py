@@ -7,8 +7,11 @@ with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``
 recent frames gave a scan and if not why). The camera pose comes from TF (``~scan_frame`` <-
 image frame), else from ``~camera_height``/``~camera_pitch_deg``
 (:mod:`can_seeker.ros.camera_pose`). ``~reset`` (std_srvs/Empty)
-forgets the learned floor model, so a new trial does not inherit the last one's.
+forgets the learned floor model, so a new trial does not inherit the last one's, and skips the
+frames stamped at or before the reset that are still on their way (they show the world before
+it; which of them arrive after the reset depends on the machine's load).
 """
+import math
 import threading
 import time
 
@@ -46,6 +49,7 @@ class ObstacleScanNode:
         self.intrinsics = None
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.scanner_lock = threading.Lock()
+        self.reset_s = -math.inf
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.camera_poses = CameraPoseSource.from_tf(
@@ -66,6 +70,7 @@ class ObstacleScanNode:
 
     def on_reset(self, _request):
         with self.scanner_lock:
+            self.reset_s = rospy.get_time()
             self.scanner.floor.reset()
         return EmptyResponse()
 
@@ -107,6 +112,9 @@ class ObstacleScanNode:
         pose = (self.camera_poses.pose(msg.header.frame_id, rospy.get_time()) if intrinsics
                 else None)
         with self.scanner_lock:
+            if msg.header.stamp.to_sec() <= self.reset_s:
+                self.outcomes.add('skipped: taken before the last reset', OK)
+                return
             result = self.scanner.scan(bgr, pose, intrinsics)
         if result.ranges is not None:
             self.publish_scan(msg.header.stamp, result.ranges)
