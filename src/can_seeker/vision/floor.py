@@ -36,12 +36,6 @@ CHROMA_SATURATION_MIN = 50
 """Pixels less saturated than this (0-255) have no reliable hue: they count as grey."""
 CHROMA_VALUE_MIN = 40
 """Pixels darker than this (0-255) have no reliable hue: they count as grey."""
-LEARN_HUE_SATURATION_MIN = 30
-"""Floor pixels at least this saturated (0-255) but below CHROMA_SATURATION_MIN count as grey and
-also teach the model their hue. A pale floor's saturation wanders across the grey boundary
-with the light and the white balance; a model that learned only grey from it would call the
-same floor an obstacle once it is a little more saturated, and could never learn better (a
-reference area that looks like an obstacle does not teach)."""
 BIN_TOLERANCE = 1
 """A pixel is floor-like when its bin or a neighbour (hue wraps around) is common in the model:
 tolerates shading across the floor."""
@@ -148,7 +142,6 @@ class FloorClassifier:
         corners = reference_trapezoid(width, height, self.settings.reference_height)
         cv2.fillConvexPoly(self._reference, corners, 255)
         self.reference_corners = corners
-        self._reference_top = int(corners[:, 1].min())
         self._reference_pixels = self._reference > 0
         self._shape = shape
         self.reset()
@@ -179,37 +172,19 @@ class FloorClassifier:
         colour[grey] = GREY_BIN
         return colour, cv2.LUT(value, VALUE_BIN_LUT)
 
-    def _pale_hue(self, bgr, colour):
-        """Hue bin of each grey pixel in the reference rows that teaches its hue (see
-        LEARN_HUE_SATURATION_MIN), GREY_BIN elsewhere. Read from a 5x5 box blur: a pale
-        pixel's own hue is mostly its noise, the blur's is the surface's."""
-        top = self._reference_top
-        pale = np.full(colour.shape, GREY_BIN, np.uint8)
-        hsv = cv2.cvtColor(cv2.blur(bgr[top:], (5, 5)), cv2.COLOR_BGR2HSV)
-        hue, saturation, value = cv2.split(hsv)
-        teaches = ((colour[top:] == GREY_BIN) & (saturation >= LEARN_HUE_SATURATION_MIN)
-                   & (value >= CHROMA_VALUE_MIN))
-        pale[top:][teaches] = cv2.LUT(hue, HUE_BIN_LUT)[teaches]
-        return pale
-
     @staticmethod
-    def _histogram(bins, where, length, extra_bins=None):
-        """Normalised histogram of ``bins`` where ``where``; ``extra_bins`` add their counts
-        below GREY_BIN (pale floor pixels' hues)."""
+    def _histogram(bins, where, length):
         counts = np.bincount(bins[where], minlength=length).astype(np.float64)
-        if extra_bins is not None:
-            counts[:GREY_BIN] += np.bincount(extra_bins[where], minlength=length)[:GREY_BIN]
         total = counts.sum()
         return counts / total if total > 0 else None
 
     def _appearance_obstacles(self, bgr, ignore):
         colour, value = self._features(bgr)
-        pale_hue = self._pale_hue(bgr, colour)
         reference = self._reference_pixels
         if ignore is not None:
             reference = reference & (ignore == 0)
         if self.colour_model is None:
-            self.colour_model = self._histogram(colour, reference, GREY_BIN + 1, pale_hue)
+            self.colour_model = self._histogram(colour, reference, GREY_BIN + 1)
             self.value_model = self._histogram(value, reference, VALUE_BINS)
             if self.colour_model is None or self.value_model is None:
                 self.reset()
@@ -225,10 +200,10 @@ class FloorClassifier:
         raw = cv2.LUT(colour, obstacle_table)
         cv2.bitwise_or(raw, cv2.LUT(value, np.where(value_floor, 0, 255).astype(np.uint8)),
                        dst=raw)
-        self._update_model(colour, value, pale_hue, raw, reference)
+        self._update_model(colour, value, raw, reference)
         return raw
 
-    def _update_model(self, colour, value, pale_hue, raw, reference):
+    def _update_model(self, colour, value, raw, reference):
         """Blend the reference area's floor pixels into the model unless the area is suspect."""
         self.model_updated = False
         rate = self.settings.adapt_rate
@@ -239,7 +214,7 @@ class FloorClassifier:
         floor_count = int(np.count_nonzero(floor))
         if floor_count == 0 or 1.0 - floor_count / in_reference > self.settings.suspect_fraction:
             return
-        colour_new = self._histogram(colour, floor, GREY_BIN + 1, pale_hue)
+        colour_new = self._histogram(colour, floor, GREY_BIN + 1)
         value_new = self._histogram(value, floor, VALUE_BINS)
         self.colour_model = (1.0 - rate) * self.colour_model + rate * colour_new
         self.value_model = (1.0 - rate) * self.value_model + rate * value_new
