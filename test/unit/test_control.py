@@ -702,3 +702,18 @@ def test_unknown_floor_beside_the_way_ahead_makes_the_robot_turn_to_look():
     assert controller.why.endswith('turning to look at it')
     command = drive_toward_can(controller, now, 1.0, ('/scan',))
     assert command[0] > 0.1 and controller.why == ''
+
+
+def test_a_late_scan_is_placed_at_the_pose_it_was_taken_from():
+    """A camera scan comes as late as its frame: taken at 1.0 facing +x, received at 1.12 after
+    a quarter turn, its obstacle 1 m ahead lies at (1, 0) in odom, not at (0, 1)."""
+    controller = make_controller(scan_topics='/camera_scan')
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 1.0)
+    controller.observe_pose(Pose2D(0.0, 0.0, math.pi / 2.0), 1.12)
+    controller.observe_scan('/camera_scan', np.array([[1.0, 0.0]]), np.array([True]),
+                            (0.0, 0.0), 1.12, stamp_s=1.0)
+    grid = controller.navigator.grid
+    ix, iy = np.nonzero(grid.occupied())
+    centres = grid.centre_of(ix, iy)
+    assert len(centres) == 1
+    assert centres[0] == pytest.approx((1.0, 0.0), abs=grid.resolution_m)

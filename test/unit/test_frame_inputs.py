@@ -210,3 +210,53 @@ def test_scans_of_two_sources_with_one_stamp_are_released_in_source_order():
         inputs.pose('p', 1.0)
         releases.append([value for _, _, value in inputs.ready()])
     assert releases[0] == releases[1] == ['p', (CAMERA, CAMERA), (LIDAR, LIDAR)]
+
+
+def test_a_late_frame_is_answered_from_the_odometry_of_its_delivery_whatever_the_arrival():
+    """Camera latency: the frame stamped 1.0 goes out at 1.12 with the odometry of 1.12. The
+    answer must come after that odometry, not after whichever odometry happened to arrive
+    before the detection did. (Odometry comes in stamp order; a scan is placed at the pose of
+    its stamp, so whether later odometry was applied before it does not matter.)"""
+    befores = set()
+    arrivals = (('pose', 1.1), ('pose', 1.12), ('delivery', None), ('scan', 1.0),
+                ('detection', 1.0))
+    for arrival in itertools.permutations(arrivals):
+        if arrival.index(('pose', 1.1)) > arrival.index(('pose', 1.12)):
+            continue
+        inputs = camera_inputs()
+        inputs.pose('p0', 0.98)
+        released = list(inputs.ready())
+        inputs.delivery(0.9, 0.95)   # an earlier frame's: deliveries are being sent
+        for kind, stamp_s in arrival:
+            if kind == 'delivery':
+                inputs.delivery(1.0, 1.12)
+            elif kind == 'scan':
+                inputs.scan(CAMERA, 's1', stamp_s)
+            else:
+                getattr(inputs, kind)(kind, stamp_s)
+            released += inputs.ready()
+        assert kinds(released)[-1] == ('detection', 1.0)
+        befores.add(frozenset(kinds(released)[:-1]))
+    assert befores == {frozenset((('pose', 0.98), ('scan', 1.0), ('pose', 1.1),
+                                  ('pose', 1.12)))}
+
+
+def test_a_late_frame_waits_for_lidar_scans_due_by_its_delivery():
+    inputs = heard(FrameInputs(live, live, (CAMERA, LIDAR)))
+    inputs.delivery(0.5, 0.5)
+    inputs.pose('p', 1.12)
+    inputs.scan(CAMERA, 'camera', 1.0)
+    inputs.delivery(1.0, 1.12)
+    inputs.detection('d', 1.0)
+    inputs.scan(LIDAR, 'lidar', 0.0)
+    assert ('detection', 1.0) not in kinds(inputs.ready())
+    inputs.scan(LIDAR, 'lidar', 1.1)
+    assert kinds(inputs.ready())[-3:] == [('scan', 1.1), ('pose', 1.12), ('detection', 1.0)]
+
+
+def test_without_deliveries_a_frame_is_answered_as_before():
+    inputs = camera_inputs()
+    inputs.pose('p1', 1.0)
+    inputs.scan(CAMERA, 's1', 1.0)
+    inputs.detection('d1', 1.0)
+    assert kinds(inputs.ready()) == [('pose', 1.0), ('scan', 1.0), ('detection', 1.0)]

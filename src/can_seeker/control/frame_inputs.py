@@ -15,21 +15,28 @@ at every frame. A source's messages arrive in order on one connection, so its ne
 says which of its scans have arrived; a source not heard from yet (no schedule known) is not
 waited for.
 
+A late frame (camera latency: captured at its stamp, published later) is answered from where
+the robot is when it is published: the simulator says when (a delivery: the frame's stamp and
+its publication time), and the frame then waits for the odometry of that time and for the
+scans due by it, and is released after them. Without a delivery, which odometry had arrived by
+the time the frame did would decide the answer. A frame waits for its delivery only once a
+delivery was heard of (a simulator that sends none is not waited for).
+
 Nothing waits for ever: when a detection of a later frame arrives while a frame still waits,
 the simulator has stepped on without the answer (it timed out), so that frame and everything
 stamped up to it is released.
 """
 import math
-from typing import Any, Callable, Dict, List, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 STAMP_TOLERANCE_S = 1e-6
 _ORDER = {'pose': 0, 'scan': 1, 'detection': 2}
 
 
-def _release_order(item: Tuple[float, str, Any]) -> Tuple[float, int, str]:
-    """Stamp, then odometry before scans before a detection, then scans by source."""
-    stamp_s, kind, value = item
-    return stamp_s, _ORDER[kind], value[0] if kind == 'scan' else ''
+def _stamp_key(stamp_s: float) -> int:
+    """A stamp (s) as whole microseconds: a frame's stamp and its delivery's ``time_ref`` are
+    the same ROS time, but floats of it may differ in the last bit."""
+    return int(round(stamp_s / STAMP_TOLERANCE_S))
 
 
 class FrameInputs:
@@ -51,6 +58,8 @@ class FrameInputs:
         self._newest_detection_s = -math.inf
         self._newest_scan_s: Dict[str, float] = {}
         self._scan_period_s: Dict[str, float] = {}
+        self._delivered_s: Dict[int, float] = {}
+        self._deliveries_heard = False
 
     def pose(self, value: Any, stamp_s: float) -> None:
         """Odometry stamped ``stamp_s``."""
@@ -65,6 +74,12 @@ class FrameInputs:
                                               stamp_s)
             self._scan_period_s[source] = max(0.0, period_s)
 
+    def delivery(self, frame_stamp_s: float, delivered_s: float) -> None:
+        """The frame stamped ``frame_stamp_s`` was published at ``delivered_s``."""
+        self._deliveries_heard = True
+        if frame_stamp_s > self._reset_s + STAMP_TOLERANCE_S:
+            self._delivered_s[_stamp_key(frame_stamp_s)] = delivered_s
+
     def detection(self, value: Any, stamp_s: float) -> None:
         """A detection of the frame stamped ``stamp_s``."""
         if self._add('detection', value, stamp_s):
@@ -76,6 +91,7 @@ class FrameInputs:
         arrives depends on the machine's load). Scan sources count their periods from the
         reset (the simulator restarts its schedules there)."""
         self._pending = []
+        self._delivered_s = {}
         self._reset_s = reset_s
         for source in self._newest_scan_s:
             self._newest_scan_s[source] = reset_s
@@ -89,32 +105,57 @@ class FrameInputs:
     def _pose_reached(self, stamp_s: float) -> bool:
         return self._newest_pose_s >= stamp_s - STAMP_TOLERANCE_S or not self._pose_live()
 
-    def _owes_scan(self, source: str, stamp_s: float, at_stamp: bool) -> bool:
+    def _due_s(self, kind: str, stamp_s: float) -> float:
+        """When an input is applied: a frame at its delivery (its stamp while the delivery is
+        unknown), anything else at its stamp."""
+        if kind == 'detection':
+            return self._delivered_s.get(_stamp_key(stamp_s), stamp_s)
+        return stamp_s
+
+    def _release_order(self, item: Tuple[float, str, Any]) -> Tuple[float, int, str]:
+        """When applied, then odometry before scans before a detection, then scans by
+        source."""
+        stamp_s, kind, value = item
+        return self._due_s(kind, stamp_s), _ORDER[kind], value[0] if kind == 'scan' else ''
+
+    def _owes_scan(self, source: str, stamp_s: float, at_stamp: bool,
+                   due_s: Optional[float] = None) -> bool:
         """Whether live ``source`` still owes a scan stamped before ``stamp_s`` (or at it,
-        with ``at_stamp``). A source not heard from yet has no schedule to wait for; one
-        without a period owes a scan at every frame, and only frames wait for it."""
+        with ``at_stamp``: a frame, which also waits for periodic scans due by its delivery
+        ``due_s``). A source not heard from yet has no schedule to wait for; one without a
+        period owes a scan at every frame, and only frames wait for it."""
         if source not in self._newest_scan_s:
             return False
         newest_s = self._newest_scan_s[source]
         period_s = self._scan_period_s[source]
         if at_stamp:
-            owes = newest_s < stamp_s - STAMP_TOLERANCE_S and (
-                period_s == 0.0 or newest_s + period_s <= stamp_s + STAMP_TOLERANCE_S)
+            if period_s == 0.0:
+                owes = newest_s < stamp_s - STAMP_TOLERANCE_S
+            else:
+                due_s = stamp_s if due_s is None else due_s
+                owes = (newest_s < due_s - STAMP_TOLERANCE_S
+                        and newest_s + period_s <= due_s + STAMP_TOLERANCE_S)
         else:
             owes = period_s > 0.0 and newest_s + period_s < stamp_s - STAMP_TOLERANCE_S
         return owes and self._scan_live(source)
 
     def _releasable(self, kind: str, stamp_s: float) -> bool:
         """Odometry once every scan taken before it arrived (a scan is placed at the pose
-        before it); a scan once the odometry reached it; a frame once the odometry reached
-        it and every scan due by it arrived."""
+        before it); a scan once the odometry reached it; a frame once its delivery is known
+        (when deliveries are sent), the odometry reached the delivery and every scan due by
+        it arrived."""
         if kind == 'pose':
             return not any(self._owes_scan(source, stamp_s, False)
                            for source in self._scan_sources)
-        if not self._pose_reached(stamp_s):
+        if kind == 'scan':
+            return self._pose_reached(stamp_s)
+        if self._deliveries_heard and _stamp_key(stamp_s) not in self._delivered_s:
             return False
-        return kind == 'scan' or not any(self._owes_scan(source, stamp_s, True)
-                                         for source in self._scan_sources)
+        due_s = self._due_s(kind, stamp_s)
+        if not self._pose_reached(due_s):
+            return False
+        return not any(self._owes_scan(source, stamp_s, True, due_s)
+                       for source in self._scan_sources)
 
     def _given_up_until_s(self) -> float:
         """The stamp up to which inputs are released whatever they wait for: the newest pending
@@ -128,7 +169,7 @@ class FrameInputs:
         (odometry before a scan before a detection of the same stamp); a scan's value is
         (source, value). An input waits while an earlier one waits, so the order never depends
         on arrival."""
-        self._pending.sort(key=_release_order)
+        self._pending.sort(key=self._release_order)
         given_up_until_s = self._given_up_until_s()
         released = []
         for stamp_s, kind, value in self._pending:
@@ -136,5 +177,14 @@ class FrameInputs:
                     or self._releasable(kind, stamp_s)):
                 break
             released.append((kind, stamp_s, value))
+            if kind == 'detection':
+                self._forget_deliveries_until(stamp_s)
         del self._pending[:len(released)]
         return released
+
+    def _forget_deliveries_until(self, stamp_s: float) -> None:
+        """Drop the deliveries of frames stamped up to ``stamp_s`` (answered, or never to be:
+        frames whose detection did not come)."""
+        last = _stamp_key(stamp_s)
+        self._delivered_s = {key: due_s for key, due_s in self._delivered_s.items()
+                             if key > last}

@@ -4,7 +4,8 @@ Subscribes ``detection`` (can_seeker/CanDetection; remap it to image_converter's
 ``~detection``), ``camera_info`` (sensor_msgs/CameraInfo, for the floor the camera covers),
 ``~odom_topic`` (nav_msgs/Odometry) and every topic of ``~scan_topics`` (sensor_msgs/LaserScan
 of obstacles, any frame in TF; sensor poses in ``~base_frame`` from
-:mod:`can_seeker.ros.camera_pose`); publishes ``cmd_vel`` (geometry_msgs/Twist) and
+:mod:`can_seeker.ros.camera_pose`) and, with ``~lockstep``, ``frame_delivery``
+(sensor_msgs/TimeReference from the simulator: when each frame was published); publishes ``cmd_vel`` (geometry_msgs/Twist) and
 ``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the same command stamped with the time it is
 for) from a fixed-rate timer, or with ``~lockstep`` once per detection, stamped like its image;
 ``~state`` (std_msgs/String, latched); ``~coverage`` (nav_msgs/OccupancyGrid, latched, once a
@@ -27,7 +28,7 @@ import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
-from sensor_msgs.msg import CameraInfo, LaserScan
+from sensor_msgs.msg import CameraInfo, LaserScan, TimeReference
 from std_msgs.msg import String
 from std_srvs.srv import Empty, EmptyResponse
 from visualization_msgs.msg import MarkerArray
@@ -115,6 +116,9 @@ class CanStopperNode:
             self.controller.scan_sources)
         rospy.Subscriber('detection', CanDetection, self.on_detection,
                          queue_size=input_queue, tcp_nodelay=True)
+        if params.lockstep:
+            rospy.Subscriber('frame_delivery', TimeReference, self.on_frame_delivery,
+                             queue_size=input_queue, tcp_nodelay=True)
         self.diagnostics = NodeDiagnostics()
         self.diagnostics.add('control', self.control_health)
         for monitor in self.monitors.values():
@@ -202,7 +206,7 @@ class CanStopperNode:
         with self.lock:
             if not self.params.lockstep:
                 self.controller.observe_scan(topic, *observation, rospy.get_time(),
-                                             scan.range_min)
+                                             scan.range_min, scan.header.stamp.to_sec())
                 return
             self.frame_inputs.scan(topic, observation + (scan.range_min,),
                                    scan.header.stamp.to_sec(), scan.scan_time)
@@ -240,6 +244,13 @@ class CanStopperNode:
             self.frame_inputs.detection(sighting, stamp_s)
             self.answer_frames()
         self.publish_state()
+
+    def on_frame_delivery(self, delivery):
+        """Lockstep: when the simulator published a frame (a late one answers from there)."""
+        with self.lock:
+            self.frame_inputs.delivery(delivery.time_ref.to_sec(),
+                                       delivery.header.stamp.to_sec())
+            self.answer_frames()
 
     def answer_frames(self):
         """Lockstep (under the lock): feed the controller every input in stamp order and

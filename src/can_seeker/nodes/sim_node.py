@@ -26,7 +26,7 @@ import yaml
 from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
-from sensor_msgs.msg import CameraInfo, Image, LaserScan
+from sensor_msgs.msg import CameraInfo, Image, LaserScan, TimeReference
 from std_msgs.msg import Bool, String
 from std_srvs.srv import Empty, EmptyResponse
 from tf2_msgs.msg import TFMessage
@@ -57,6 +57,10 @@ HOLD_POLL_S = 0.05
 PAUSED_POLL_S = 0.002
 """While paused, calls are checked this often (s, wall)."""
 STAMPED_COMMAND_TOPIC = 'cmd_vel_stamped'
+FRAME_DELIVERY_TOPIC = 'frame_delivery'
+"""Lockstep: sensor_msgs/TimeReference per frame, stamped with the sim time the frame went out
+(``time_ref``: the frame's capture stamp); a controller answers a late frame from the pose at
+that time, whatever order its inputs arrived in."""
 TRUTH_QUEUE_SIZE = 1000
 """Outgoing queue of /odom and the ground-truth topics (messages; about 20 s of sim time)."""
 TF_QUEUE_SIZE = 100
@@ -119,6 +123,8 @@ class SimNode:
         self._tf_pub = _publisher('/tf', TFMessage, None if synchronous else TF_QUEUE_SIZE)
         self._world_pub = rospy.Publisher('~world', String, queue_size=1, latch=True)
         self._scan_pub = rospy.Publisher('scan', LaserScan, queue_size=5)
+        self._delivery_pub = (_publisher(FRAME_DELIVERY_TOPIC, TimeReference, None)
+                              if synchronous else None)
         self._scan = self._scan_template(self._sim.lidar, config.scan_rate, config.lidar_frame)
         self._static_broadcaster = tf2_ros.StaticTransformBroadcaster()
         self._publish_clock()
@@ -288,6 +294,13 @@ class SimNode:
     def _publish_clock(self):
         self._clock_pub.publish(Clock(clock=rospy.Time.from_sec(self._sim.time_s)))
 
+    def _publish_delivery(self, stamp, image_time_s):
+        """Lockstep: the frame stamped ``image_time_s`` goes out now (``stamp``), and the state
+        published with it is the newest there is until its answer came back."""
+        delivery = TimeReference(time_ref=rospy.Time.from_sec(image_time_s), source='camera')
+        delivery.header.stamp = stamp
+        self._delivery_pub.publish(delivery)
+
     def _publish_image(self, image, stamp):
         message = Image()
         message.header.stamp = stamp
@@ -377,6 +390,8 @@ class SimNode:
                 self._publish_scan(result.scan, stamp)
             if result.image is not None:
                 self._frames += 1
+                if self._delivery_pub is not None:
+                    self._publish_delivery(stamp, result.image_time_s)
                 self._publish_image(result.image, rospy.Time.from_sec(result.image_time_s))
                 if self._gate is not None:
                     self._gate.hold(result.image_time_s, self._awaited_inputs())
