@@ -37,11 +37,9 @@ CHROMA_SATURATION_MIN = 50
 """Pixels less saturated than this (0-255) have no reliable hue: they count as grey."""
 CHROMA_VALUE_MIN = 40
 """Pixels darker than this (0-255) have no reliable hue: they count as grey."""
-HUE_TOLERANCE = 1
-"""A pixel is floor-like when its (colour, intensity) bin is common in the model, or one this
-many hue bins (hue wraps around) and VALUE_TOLERANCE intensity bins away is."""
-VALUE_TOLERANCE = 2
-"""Intensity bins either side of a common one that are floor too: shading across the floor."""
+BIN_TOLERANCE = 1
+"""A pixel is floor-like when its (colour, intensity) bin or a neighbour in either (hue wraps
+around) is common in the model: tolerates shading across the floor."""
 
 FLOOR_PARAMS = (
     Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
@@ -49,7 +47,7 @@ FLOOR_PARAMS = (
           'pixels darker than ~dark_threshold are obstacles)', choices=FLOOR_MODELS),
     Param('dark_threshold', 60, 'grey level below which a pixel is an obstacle when '
           '~floor_model is dark (0-255)', 0, 255),
-    Param('min_bin_fraction', 0.002, 'a (colour, intensity) bin of the floor model holding '
+    Param('min_bin_fraction', 0.004, 'a (colour, intensity) bin of the floor model holding '
           'less than this fraction of it marks its pixels as obstacles (1)', 0.0, 1.0),
     Param('adapt_rate', 0.005, 'weight of each frame\'s reference floor pixels in the floor '
           'model (1 per frame; 0 = keep the first frame\'s model)', 0.0, 1.0),
@@ -72,7 +70,7 @@ class FloorSettings:
 
     floor_model: str = 'adaptive'
     dark_threshold: int = 60
-    min_bin_fraction: float = 0.002
+    min_bin_fraction: float = 0.004
     adapt_rate: float = 0.005
     reference_height: float = 0.2
     suspect_fraction: float = 0.3
@@ -108,15 +106,15 @@ JOINT_BINS = (GREY_BIN + 1) * VALUE_BINS
 
 
 def _tolerant(common: np.ndarray) -> np.ndarray:
-    """(colour, intensity) bins near a common one: VALUE_TOLERANCE intensities either side,
-    HUE_TOLERANCE hues either side (wrapping around 0/179; the grey row has no hue
+    """(colour, intensity) bins within BIN_TOLERANCE of a common one in both: intensities
+    either side, hues either side (wrapping around 0/179; the grey row has no hue
     neighbours)."""
     widened = common.copy()
-    for shift in range(1, VALUE_TOLERANCE + 1):
+    for shift in range(1, BIN_TOLERANCE + 1):
         widened[:, shift:] |= common[:, :-shift]
         widened[:, :-shift] |= common[:, shift:]
     hues = widened[:HUE_BINS].copy()
-    for shift in range(1, HUE_TOLERANCE + 1):
+    for shift in range(1, BIN_TOLERANCE + 1):
         widened[:HUE_BINS] |= np.roll(hues, shift, axis=0) | np.roll(hues, -shift, axis=0)
     return widened
 
