@@ -2,12 +2,11 @@
 
 The adaptive model follows Ulrich & Nourbakhsh 2000 ("Appearance-Based Obstacle Detection with
 Monocular Color Vision"): a reference trapezoid at the bottom of the image, just in front of the
-robot, is assumed to be floor; its pixels fill a joint histogram of colour (hue, or "grey"
-for pixels too pale or dark to have a hue) and intensity. A pixel whose (colour, intensity)
+robot, is assumed to be floor; its pixels fill a colour histogram (hue, or "grey" for pixels
+too pale or dark to have a hue) and an intensity histogram. A pixel whose colour or intensity
 bin is rare in the model is an obstacle, whatever the floor's colour, so light obstacles on a
 dark floor are found as well as dark ones on a light floor, and a textured floor, whose
-histogram is wide, is tolerated. (The paper keeps hue and intensity apart; on a floor of two
-tiles, a wall with the hue of one and the brightness of the other then passes as floor.) The model adapts over frames with the reference pixels it
+histograms are wide, is tolerated. The model adapts over frames with the reference pixels it
 classifies as floor; when too much of the reference area looks like an obstacle (something
 stands right in front of the robot) the frame does not update the model at all. An obstacle
 is therefore never learned as floor, and a floor colour never seen in the reference area
@@ -38,8 +37,8 @@ CHROMA_SATURATION_MIN = 50
 CHROMA_VALUE_MIN = 40
 """Pixels darker than this (0-255) have no reliable hue: they count as grey."""
 BIN_TOLERANCE = 1
-"""A pixel is floor-like when its (colour, intensity) bin or a neighbour in either (hue wraps
-around) is common in the model: tolerates shading across the floor."""
+"""A pixel is floor-like when its bin or a neighbour (hue wraps around) is common in the model:
+tolerates shading across the floor."""
 
 FLOOR_PARAMS = (
     Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
@@ -47,8 +46,8 @@ FLOOR_PARAMS = (
           'pixels darker than ~dark_threshold are obstacles)', choices=FLOOR_MODELS),
     Param('dark_threshold', 60, 'grey level below which a pixel is an obstacle when '
           '~floor_model is dark (0-255)', 0, 255),
-    Param('min_bin_fraction', 0.004, 'a (colour, intensity) bin of the floor model holding '
-          'less than this fraction of it marks its pixels as obstacles (1)', 0.0, 1.0),
+    Param('min_bin_fraction', 0.004, 'a colour or intensity histogram bin holding less than '
+          'this fraction of the floor model marks its pixels as obstacles (1)', 0.0, 1.0),
     Param('adapt_rate', 0.005, 'weight of each frame\'s reference floor pixels in the floor '
           'model (1 per frame; 0 = keep the first frame\'s model)', 0.0, 1.0),
     Param('reference_height', 0.2, 'height of the reference trapezoid at the bottom of the '
@@ -102,20 +101,17 @@ def _hue_bin_lut() -> np.ndarray:
 
 HUE_BIN_LUT = _hue_bin_lut()
 VALUE_BIN_LUT = (np.arange(256) * VALUE_BINS // 256).astype(np.uint8)
-JOINT_BINS = (GREY_BIN + 1) * VALUE_BINS
 
 
-def _tolerant(common: np.ndarray) -> np.ndarray:
-    """(colour, intensity) bins within BIN_TOLERANCE of a common one in both: intensities
-    either side, hues either side (wrapping around 0/179; the grey row has no hue
-    neighbours)."""
+def _tolerant(common: np.ndarray, wrap: bool) -> np.ndarray:
+    """Bins within BIN_TOLERANCE of a common bin (hue bins wrap around 0/179)."""
     widened = common.copy()
     for shift in range(1, BIN_TOLERANCE + 1):
-        widened[:, shift:] |= common[:, :-shift]
-        widened[:, :-shift] |= common[:, shift:]
-    hues = widened[:HUE_BINS].copy()
-    for shift in range(1, BIN_TOLERANCE + 1):
-        widened[:HUE_BINS] |= np.roll(hues, shift, axis=0) | np.roll(hues, -shift, axis=0)
+        if wrap:
+            widened |= np.roll(common, shift) | np.roll(common, -shift)
+        else:
+            widened[shift:] |= common[:-shift]
+            widened[:-shift] |= common[shift:]
     return widened
 
 
@@ -129,12 +125,14 @@ class FloorClassifier:
     def __init__(self, settings: Optional[FloorSettings] = None):
         self.settings = settings if settings is not None else FloorSettings()
         self._shape = None
-        self.model = None
+        self.colour_model = None
+        self.value_model = None
         self.model_updated = False
 
     def reset(self):
         """Forget the floor model: the next frame's reference area is learned afresh."""
-        self.model = None
+        self.colour_model = None
+        self.value_model = None
 
     def _prepare(self, shape):
         if shape == self._shape:
@@ -175,30 +173,37 @@ class FloorClassifier:
         return colour, cv2.LUT(value, VALUE_BIN_LUT)
 
     @staticmethod
-    def _histogram(joint, where):
-        """The normalised (colour, intensity) histogram of the ``joint`` bins where ``where``
-        (None when there are no such pixels)."""
-        counts = np.bincount(joint[where], minlength=JOINT_BINS).astype(np.float64)
+    def _histogram(bins, where, length):
+        counts = np.bincount(bins[where], minlength=length).astype(np.float64)
         total = counts.sum()
-        return (counts / total).reshape(GREY_BIN + 1, VALUE_BINS) if total > 0 else None
+        return counts / total if total > 0 else None
 
     def _appearance_obstacles(self, bgr, ignore):
         colour, value = self._features(bgr)
-        joint = colour.astype(np.uint16) * VALUE_BINS + value
         reference = self._reference_pixels
         if ignore is not None:
             reference = reference & (ignore == 0)
-        if self.model is None:
-            self.model = self._histogram(joint, reference)
-            if self.model is None:
+        if self.colour_model is None:
+            self.colour_model = self._histogram(colour, reference, GREY_BIN + 1)
+            self.value_model = self._histogram(value, reference, VALUE_BINS)
+            if self.colour_model is None or self.value_model is None:
+                self.reset()
                 self.model_updated = False
                 return np.zeros(bgr.shape[:2], np.uint8)
-        floor = _tolerant(self.model >= self.settings.min_bin_fraction)
-        raw = np.where(floor.ravel(), 0, 255).astype(np.uint8)[joint]
-        self._update_model(joint, raw, reference)
+        threshold = self.settings.min_bin_fraction
+        colour_floor = np.zeros(256, bool)
+        colour_floor[:HUE_BINS] = _tolerant(self.colour_model[:HUE_BINS] >= threshold, True)
+        colour_floor[GREY_BIN] = self.colour_model[GREY_BIN] >= threshold
+        value_floor = np.zeros(256, bool)
+        value_floor[:VALUE_BINS] = _tolerant(self.value_model >= threshold, False)
+        obstacle_table = np.where(colour_floor, 0, 255).astype(np.uint8)
+        raw = cv2.LUT(colour, obstacle_table)
+        cv2.bitwise_or(raw, cv2.LUT(value, np.where(value_floor, 0, 255).astype(np.uint8)),
+                       dst=raw)
+        self._update_model(colour, value, raw, reference)
         return raw
 
-    def _update_model(self, joint, raw, reference):
+    def _update_model(self, colour, value, raw, reference):
         """Blend the reference area's floor pixels into the model unless the area is suspect."""
         self.model_updated = False
         rate = self.settings.adapt_rate
@@ -209,7 +214,10 @@ class FloorClassifier:
         floor_count = int(np.count_nonzero(floor))
         if floor_count == 0 or 1.0 - floor_count / in_reference > self.settings.suspect_fraction:
             return
-        self.model = (1.0 - rate) * self.model + rate * self._histogram(joint, floor)
+        colour_new = self._histogram(colour, floor, GREY_BIN + 1)
+        value_new = self._histogram(value, floor, VALUE_BINS)
+        self.colour_model = (1.0 - rate) * self.colour_model + rate * colour_new
+        self.value_model = (1.0 - rate) * self.value_model + rate * value_new
         self.model_updated = True
 
     def _obstacle_regions(self, raw, bgr):
