@@ -717,3 +717,22 @@ def test_a_late_scan_is_placed_at_the_pose_it_was_taken_from():
     centres = grid.centre_of(ix, iy)
     assert len(centres) == 1
     assert centres[0] == pytest.approx((1.0, 0.0), abs=grid.resolution_m)
+
+
+def test_commands_do_not_depend_on_when_the_trial_started():
+    """The same inputs at the same times after a trial's start give the same commands bit for
+    bit whatever the absolute sim time of the start: the acceleration ramp's step was the
+    difference of two absolute stamps, whole nanoseconds rounded from the simulator's time, so
+    one frame period came out a nanosecond longer or shorter depending on the start (a 2e-9
+    rad/s difference that grew into another course over a long lockstep trial)."""
+    def commands(start_s):
+        controller = make_controller()
+        out = []
+        for frame in range(60):
+            now = round((start_s + frame / 15.0) * 1e9) * 1e-9   # a ROS stamp: whole ns
+            controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
+            controller.observe(None if frame < 20 else ahead(1.5, 20.0), now, now)
+            out.append(controller.command(now))
+        return out
+
+    assert commands(1.2208333333333334) == commands(1.4208333333333334)

@@ -59,6 +59,7 @@ from can_seeker.control import avoidance
 from can_seeker.control.navigation import CLEAR_AHEAD_M, GOAL_REACHED_M, CameraView, Navigator, \
     Pose2D
 from can_seeker.control.pose_history import PoseHistory, sighting_from
+from can_seeker.control.elapsed import elapsed_s
 from can_seeker.control.twist_limits import TwistLimits, limit_twist, require_finite
 from can_seeker.sim.lockstep import parse_topics
 
@@ -178,13 +179,13 @@ STALL_CELLS = 5
 DIRECT_GAP_M = 0.5
 STALL_S = 6.0
 NOT_THERE_S = 1.0
-LOOK_BELOW_FRACTION = 0.5
-"""A robot kept from driving by unknown floor and turning slower than this fraction of
-~search_angular turns to look at that floor instead."""
 """LOST within reach of where the can was seen last, facing it (within
 ~reapproach_bearing_deg, its base in view) without seeing it for this long (s): it is not
 there (moved, or a misplaced sighting put it there), so SEARCH at once instead of standing
 until ~lost_timeout."""
+LOOK_BELOW_FRACTION = 0.5
+"""A robot kept from driving by unknown floor and turning slower than this fraction of
+~search_angular turns to look at that floor instead."""
 BELOW_VIEW_MARGIN_M = 0.05
 """The can counts as below the view from this far beyond the floor of the image's bottom row
 (m): there its base touches the bottom edge, where the floor range gives way to the width
@@ -468,7 +469,7 @@ class Controller:
     def _observe_stopped(self, ranged: bool, now_s: float) -> None:
         """STOPPED: approach again when the can moved, LOST when it vanished for a while."""
         if not ranged:
-            if now_s - self.seen_since_stop_s > self.config.vanish_timeout:
+            if elapsed_s(now_s, self.seen_since_stop_s) > self.config.vanish_timeout:
                 self._enter(State.LOST)
                 self.lost_since_s = now_s
             return
@@ -590,7 +591,7 @@ class Controller:
         """Drive along a grid path to ``goal_xy`` (planned again every ``replan_period``), or
         None when no path reaches it."""
         config = self.config
-        if self.path_xy is None or now_s - self.planned_s >= config.replan_period:
+        if self.path_xy is None or elapsed_s(now_s, self.planned_s) >= config.replan_period:
             self.path_xy = self.navigator.path_to(goal_xy, exclude_xy, config.can_exclusion_radius)
             self.planned_s = now_s
         if self.path_xy is None:
@@ -606,7 +607,7 @@ class Controller:
         """Head for the nearest floor not covered yet; SEARCH again on arrival."""
         navigator, config = self.navigator, self.config
         if (self.goal_xy is None or navigator.is_seen(self.goal_xy)
-                or now_s - self.planned_s >= config.replan_period):
+                or elapsed_s(now_s, self.planned_s) >= config.replan_period):
             self.goal_xy = navigator.frontier(config.explore_turn_cost, FRONTIER_MIN_UNSEEN)
             self.path_xy = None
             if self.goal_xy is None:
@@ -682,7 +683,7 @@ class Controller:
                 self.facing_lost_s = None
             elif self.facing_lost_s is None:
                 self.facing_lost_s = now_s
-            elif now_s - self.facing_lost_s >= NOT_THERE_S:
+            elif elapsed_s(now_s, self.facing_lost_s) >= NOT_THERE_S:
                 self._enter(State.SEARCH)
                 self._because('the can is not where it was seen last: searching')
                 return turning
@@ -783,7 +784,7 @@ class Controller:
         covered = int(np.count_nonzero(self.navigator.grid.seen))
         if self.progress is None or covered >= self.progress[0] + STALL_CELLS:
             self.progress = (covered, now_s)
-        elif now_s - self.progress[1] > STALL_S:
+        elif elapsed_s(now_s, self.progress[1]) > STALL_S:
             if self.goal_xy is not None:
                 self.navigator.give_up_on(self.goal_xy)
             self.goal_xy = None
@@ -804,14 +805,14 @@ class Controller:
             raise
 
     def _command(self, now_s: float) -> Tuple[float, float]:
-        dt_s = 0.0 if self.last_command_s is None else now_s - self.last_command_s
+        dt_s = 0.0 if self.last_command_s is None else elapsed_s(now_s, self.last_command_s)
         self.last_command_s = now_s
         self.why = ''
         if self.is_stale(now_s):
             self.last_command = (0.0, 0.0)
             self.why = problems_text(self.missing_inputs(now_s))
             return self.last_command
-        if self.state is State.LOST and now_s - self.lost_since_s > self.config.lost_timeout:
+        if self.state is State.LOST and elapsed_s(now_s, self.lost_since_s) > self.config.lost_timeout:
             self._enter(State.SEARCH)
         desired = require_finite(self.desired(now_s), '%s command' % self.state.value)
         desired = self._safe(desired, now_s, look=True)

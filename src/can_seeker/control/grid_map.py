@@ -28,6 +28,8 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
+from can_seeker.control.elapsed import elapsed_s
+
 HIT_EVIDENCE = 4
 MISS_EVIDENCE = 1
 EVIDENCE_LIMIT = 12
@@ -96,13 +98,13 @@ class GridMap:
         the rays) and to the blind-disc time of every cell within ``clear_from_m``."""
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
         previous_s = self.scan_s.get(source)
-        elapsed_s = 0.0 if previous_s is None else stamp_s - previous_s
+        elapsed = 0.0 if previous_s is None else elapsed_s(stamp_s, previous_s)
         self.scan_s[source] = stamp_s
-        if clear_from_m > 0.0 and elapsed_s > 0.0:
+        if clear_from_m > 0.0 and elapsed > 0.0:
             ix, iy = self._window(origin_xy, clear_from_m)
             centres = self.centre_of(*np.meshgrid(ix, iy, indexing='ij'))
             disc = np.linalg.norm(centres - np.asarray(origin_xy, float), axis=-1) <= clear_from_m
-            self.blind_disc_s[np.ix_(ix, iy)] += np.where(disc, elapsed_s, 0.0)
+            self.blind_disc_s[np.ix_(ix, iy)] += np.where(disc, elapsed, 0.0)
         if len(ends_xy) == 0:
             return
         origin = np.asarray(origin_xy, float).reshape(1, 2)
@@ -133,7 +135,7 @@ class GridMap:
         self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
         self.blind_s[hit] = 0.0
-        self.blind_s[blind] += max(0.0, elapsed_s)
+        self.blind_s[blind] += max(0.0, elapsed)
 
     def _observe_rays(self, origin: np.ndarray, directions: np.ndarray, lengths: np.ndarray,
                       hits: np.ndarray, clear_from_m: float) -> None:

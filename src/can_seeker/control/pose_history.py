@@ -8,6 +8,7 @@ import bisect
 import math
 from typing import List, Optional, Tuple
 
+from can_seeker.control.elapsed import elapsed_s
 from can_seeker.control.navigation import Pose2D
 
 HISTORY_S = 2.0
@@ -51,7 +52,8 @@ class PoseHistory:
             return self._poses[-1]
         before_s, after_s = self._stamps[index - 1], self._stamps[index]
         before, after = self._poses[index - 1], self._poses[index]
-        weight = (stamp_s - before_s) / (after_s - before_s) if after_s > before_s else 1.0
+        span_s = elapsed_s(after_s, before_s)
+        weight = elapsed_s(stamp_s, before_s) / span_s if span_s > 0.0 else 1.0
         turn = math.atan2(math.sin(after.yaw - before.yaw), math.cos(after.yaw - before.yaw))
         return Pose2D(before.x + weight * (after.x - before.x),
                       before.y + weight * (after.y - before.y),
