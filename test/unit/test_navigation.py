@@ -461,3 +461,38 @@ def test_unknown_floor_no_turn_can_observe_is_taken_for_floor_after_the_wait():
     sharp_left = (0.1, 0.5)                                   # out to unknown floor beside
     assert navigator.free_travel_m(sharp_left) < navigator.free_travel_m(sharp_left,
                                                                          unknown=False)
+
+
+def test_an_obstacle_beside_the_last_stretch_moves_the_stop_point_around_the_can():
+    """Half a metre from the can the robot sees an obstacle ahead-left, 0.26 m beside the
+    straight line to the can, in five frames (as a specular highlight on the floor can give).
+    Once it is beside the robot, out of the camera's view and in the camera scan's blind disc,
+    no turn can clear it, and the straight approach would pass it within the safety margin:
+    the robot stops at the can a little to its side, facing it, instead of standing short of
+    it for ever."""
+    world = World(3.0, [], (2.0, 0.0))
+    controller = make_controller()
+    now, _, _, _ = run(controller, world, 20.0, camera_scan=True, stop_when=lambda c: (
+        c.state is State.APPROACH and c.sighting.gap_m < 0.5))
+    pose = world.pose
+    point_odom = avoidance.from_frame(np.array([0.3, 0.262]), pose.x, pose.y, pose.yaw)[0]
+    for _ in range(5):
+        controller.observe_scan(controller.scan_sources[0], np.array([[0.3, 0.262]]),
+                                np.array([True]), (0.0, 0.0), now)
+    assert controller.navigator.grid.occupied()[controller.navigator.grid.cell_of(*point_odom)]
+    _, poses, states, _ = run(controller, world, 30.0, stop_when=stopped, camera_scan=True,
+                              start_s=now)
+    assert controller.state is State.STOPPED
+    assert set(states) <= {State.APPROACH, State.STOPPED}
+    gap = math.hypot(world.pose.x - 2.0, world.pose.y) - 0.033 - ROBOT_RADIUS
+    assert gap == pytest.approx(DEFAULTS['stop_distance'], abs=DEFAULTS['distance_tolerance'])
+    nearest = min(math.hypot(p.x - point_odom[0], p.y - point_odom[1]) for p in poses)
+    assert nearest >= ROBOT_RADIUS + DEFAULTS['safety_margin']
+
+
+def test_with_the_last_stretch_clear_the_robot_stops_straight_in_front_of_the_can():
+    world = World(3.0, [], (1.5, 0.0), Pose2D(0.86, 0.0, 0.0))
+    controller = make_controller()
+    _, poses, _, _ = run(controller, world, 20.0, stop_when=stopped, camera_scan=True)
+    assert controller.state is State.STOPPED
+    assert max(abs(pose.y) for pose in poses) < 1e-6

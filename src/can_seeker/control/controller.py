@@ -177,6 +177,8 @@ FRONTIER_MIN_UNSEEN = 6
 SAFETY_RESERVE_M = 0.03
 STALL_CELLS = 5
 DIRECT_GAP_M = 0.5
+STOP_ASIDE_STEP_DEG = 5.0
+"""Stop points beside the straight approach are tried this far apart around the can (deg)."""
 STALL_S = 6.0
 NOT_THERE_S = 1.0
 """LOST within reach of where the can was seen last, facing it (within
@@ -377,6 +379,7 @@ class Controller:
         self.goal_xy: Optional[np.ndarray] = None
         self.path_xy: Optional[np.ndarray] = None
         self.progress: Optional[Tuple[int, float]] = None
+        self.stop_aside: Optional[float] = None
 
     def observe(self, sighting: Optional[Sighting], now_s: float,
                 image_stamp_s: float = math.inf) -> None:
@@ -402,8 +405,9 @@ class Controller:
             self.turn_sign = math.copysign(1.0, sighting.bearing_rad)
         ranged = sighting is not None and sighting.has_range
         if (not ranged and self.state in (State.APPROACH, State.STOPPED)
-                and self.can_below_view()):
-            # The camera cannot range the can there: go on with where it was ranged last.
+                and (self.can_below_view() or self.stop_aside is not None)):
+            # The camera cannot range the can there, or the can left the view while the
+            # robot heads for a stop point aside: go on with where it was ranged last.
             self.sighting = self._sighting_now(self.can_xy, self.sighting.confidence
                                                if self.sighting is not None else 0.0)
             ranged = True
@@ -573,19 +577,69 @@ class Controller:
 
     # Behaviours ------------------------------------------------------------------------------
 
-    def _approach_law(self) -> Tuple[float, float]:
-        """The direct approach: steer on the bearing, speed from the gap error."""
+    def _approach_law(self, aim_bearing_rad: Optional[float] = None) -> Tuple[float, float]:
+        """The direct approach: steer on the bearing, speed from the gap error. While it drives
+        forward it steers on ``aim_bearing_rad`` instead when given (a stop point beside the
+        straight line, :meth:`_stop_aside_bearing`); in the stop band it faces the can."""
         config = self.config
         gap_error, bearing = self._errors()
-        angular = dead_band(bearing, math.radians(config.bearing_tolerance_deg) / 2.0,
-                            config.angular_gain, config.min_angular)
         linear = dead_band(gap_error, config.distance_tolerance / 2.0, config.linear_gain,
                            config.min_linear)
+        steer = bearing if aim_bearing_rad is None or linear <= 0.0 else aim_bearing_rad
+        angular = dead_band(steer, math.radians(config.bearing_tolerance_deg) / 2.0,
+                            config.angular_gain, config.min_angular)
         if linear > 0.0:
             braking_speed = math.sqrt(2.0 * config.max_linear_accel * gap_error)
-            heading_scale = max(0.0, 1.0 - abs(bearing) / math.radians(config.turn_in_place_deg))
+            heading_scale = max(0.0, 1.0 - abs(steer) / math.radians(config.turn_in_place_deg))
             linear = min(linear, braking_speed, config.max_linear) * heading_scale
         return linear, angular
+
+    def _stop_aside_bearing(self) -> Optional[float]:
+        """Bearing (rad, base_link) of a stop point beside the straight approach, or None.
+
+        The robot may stop at the can from any side: on the circle ``stop_distance`` from its
+        surface. Where the safety layer holds the straight approach back before that circle
+        (an obstacle beside the last stretch, often one remembered out of the camera's view or
+        in its blind disc, where no turn can clear it), the robot drives straight to the point
+        of the circle nearest the straight line's own (``STOP_ASIDE_STEP_DEG`` apart, up to a
+        quarter turn around the can) that the safety layer lets it reach. It keeps that point
+        (as its direction from the can's centre, in odom) until it arrives (in the stop band
+        the direct law turns it to face the can) or the way there is blocked; the can may
+        leave the view meanwhile (see :meth:`observe`). None while the straight line reaches its own stop point, or when no
+        point is in reach."""
+        config, pose = self.config, self.navigator.pose
+        can = np.asarray(self.can_xy, float)
+        ring_m = config.stop_distance + config.robot_radius + config.can_radius
+        if self.stop_aside is not None:
+            point = can + ring_m * np.array((math.cos(self.stop_aside),
+                                             math.sin(self.stop_aside)))
+            point_base = avoidance.to_frame(point, pose.x, pose.y, pose.yaw)
+            if self._reachable(point_base)[0]:
+                return math.atan2(point_base[0, 1], point_base[0, 0])
+            self.stop_aside = None
+        away = np.array((pose.x, pose.y)) - can
+        steps = np.radians(STOP_ASIDE_STEP_DEG) * np.arange(
+            1, int(90.0 // STOP_ASIDE_STEP_DEG) + 1)
+        around = math.atan2(away[1], away[0]) + np.concatenate(
+            ([0.0], np.stack((steps, -steps), axis=1).reshape(-1)))
+        points = can + ring_m * np.stack((np.cos(around), np.sin(around)), axis=1)
+        points_base = avoidance.to_frame(points, pose.x, pose.y, pose.yaw)
+        if self._reachable(points_base[:1])[0]:
+            return None
+        chosen = np.nonzero(self._reachable(points_base[1:]))[0] + 1
+        if len(chosen) == 0:
+            return None
+        self.stop_aside = float(around[chosen[0]])
+        return math.atan2(points_base[chosen[0], 1], points_base[chosen[0], 0])
+
+    def _reachable(self, points_base: np.ndarray) -> np.ndarray:
+        """Which stop points (N x 2, base_link) a straight drive reaches, within the stop band,
+        before the safety layer stops it."""
+        needed_m = (np.linalg.norm(points_base, axis=1) - self.config.distance_tolerance / 2.0
+                    + SAFETY_RESERVE_M)
+        travel_m = self.navigator.free_travel_toward_m(points_base, self.can_xy,
+                                                       self.config.can_exclusion_radius)
+        return travel_m >= needed_m
 
     def _follow_path(self, goal_xy, now_s: float, exclude_xy=None) -> Optional[Tuple[float, float]]:
         """Drive along a grid path to ``goal_xy`` (planned again every ``replan_period``), or
@@ -628,7 +682,8 @@ class Controller:
     def _toward_can(self, now_s: float) -> Tuple[float, float]:
         """APPROACH: the direct law, or a path around obstacles while the straight line to the
         can crosses obstacles grown by the robot's radius and safety margin (never in the last
-        ``DIRECT_GAP_M``, where the direct law alone can stop in front of the can)."""
+        ``DIRECT_GAP_M``, where the direct law stops in front of the can, or beside the
+        straight line when an obstacle holds that back: :meth:`_stop_aside_bearing`)."""
         if (self.can_xy is not None and self.can_navigate(now_s)
                 and self.sighting.gap_m > DIRECT_GAP_M
                 and (self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
@@ -638,7 +693,12 @@ class Controller:
             if command is not None:
                 return command
         self.path_xy = None
-        command = self._approach_law()
+        aside = None
+        if (self.can_xy is not None and self.can_navigate(now_s)
+                and self.sighting.gap_m <= DIRECT_GAP_M
+                and self._errors()[0] > self.config.distance_tolerance / 2.0):
+            aside = self._stop_aside_bearing()
+        command = self._approach_law(aside)
         if command[0] == 0.0:
             self._because(self._direct_law_standing_reason())
         return command

@@ -210,6 +210,24 @@ class Navigator:
             return travel_m, None
         return travel_m, unknown_points[index - len(points)]
 
+    def free_travel_toward_m(self, targets_base: np.ndarray, exclude_xy=None,
+                             exclude_radius_m: float = 0.0) -> np.ndarray:
+        """Free travel (m, up to the safety horizon) on the straight line from base_link toward
+        each of ``targets_base`` (N x 2, base_link), as the safety layer counts it once the
+        robot has turned in place to face that target (turning is never limited): short of
+        the obstacles and of the floor no sensor has observed."""
+        targets = np.asarray(targets_base, float).reshape(-1, 2)
+        points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
+        unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
+        points = np.concatenate((points, unknown_points))
+        clearance = np.concatenate((clearance, np.full(len(unknown_points), unknown_clearance)))
+        travel_m = np.empty(len(targets))
+        for index, (x_m, y_m) in enumerate(targets):
+            facing = avoidance.to_frame(points, 0.0, 0.0, math.atan2(y_m, x_m))
+            travel_m[index] = avoidance.free_travel_m(facing, 1.0, 0.0, clearance,
+                                                      SAFETY_HORIZON_M)
+        return travel_m
+
     def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
                       margin_m: Optional[float] = None) -> np.ndarray:
         """Cells the robot's centre must not enter: obstacles grown by radius plus margin."""
