@@ -285,7 +285,8 @@ def detection_shows_can(found: bool, confidence: float, min_confidence: float) -
     return found and confidence >= min_confidence
 
 
-def sighting_from_detection(found: bool, range_m: float, bearing_rad: float, camera: CameraFloorPose,
+def sighting_from_detection(found: bool, range_m: float, bearing_rad: float,
+                            camera: CameraFloorPose,
                             robot_radius: float, can_radius: float,
                             confidence: float = 1.0) -> Optional[Sighting]:
     """The red object of one detection relative to base_link, or None when it shows none.
@@ -605,8 +606,8 @@ class Controller:
         quarter turn around the can) that the safety layer lets it reach. It keeps that point
         (as its direction from the can's centre, in odom) until it arrives (in the stop band
         the direct law turns it to face the can) or the way there is blocked; the can may
-        leave the view meanwhile (see :meth:`observe`). None while the straight line reaches its own stop point, or when no
-        point is in reach."""
+        leave the view meanwhile (see :meth:`observe`). None while the straight line reaches
+        its own stop point, or when no point is in reach."""
         config, pose = self.config, self.navigator.pose
         can = np.asarray(self.can_xy, float)
         ring_m = config.stop_distance + config.robot_radius + config.can_radius
@@ -700,7 +701,9 @@ class Controller:
             aside = self._stop_aside_bearing()
         command = self._approach_law(aside)
         if command[0] == 0.0:
-            self._because(self._direct_law_standing_reason())
+            self._because(self._direct_law_standing_reason() if aside is None else
+                          'an obstacle holds the straight approach back: turning to a stop '
+                          'point beside it, %.0f deg off' % math.degrees(aside))
         return command
 
     def _direct_law_standing_reason(self) -> str:
@@ -872,7 +875,8 @@ class Controller:
             self.last_command = (0.0, 0.0)
             self.why = problems_text(self.missing_inputs(now_s))
             return self.last_command
-        if self.state is State.LOST and elapsed_s(now_s, self.lost_since_s) > self.config.lost_timeout:
+        if (self.state is State.LOST
+                and elapsed_s(now_s, self.lost_since_s) > self.config.lost_timeout):
             self._enter(State.SEARCH)
         desired = require_finite(self.desired(now_s), '%s command' % self.state.value)
         desired = self._safe(desired, now_s, look=True)

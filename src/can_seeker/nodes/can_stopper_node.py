@@ -5,18 +5,19 @@ Subscribes ``detection`` (can_seeker/CanDetection; remap it to image_converter's
 ``~odom_topic`` (nav_msgs/Odometry) and every topic of ``~scan_topics`` (sensor_msgs/LaserScan
 of obstacles, any frame in TF; sensor poses in ``~base_frame`` from
 :mod:`can_seeker.ros.camera_pose`) and, with ``~lockstep``, ``frame_delivery``
-(sensor_msgs/TimeReference from the simulator: when each frame was published); publishes ``cmd_vel`` (geometry_msgs/Twist) and
-``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the same command stamped with the time it is
-for) from a fixed-rate timer, or with ``~lockstep`` once per detection, stamped like its image;
+(sensor_msgs/TimeReference from the simulator: when each frame was published); publishes
+``cmd_vel`` (geometry_msgs/Twist) and ``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the
+same command stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep``
+once per detection, stamped like its image;
 ``~state`` (std_msgs/String, latched); ``~coverage`` (nav_msgs/OccupancyGrid, latched, once a
 second) and, for rviz while subscribed, ``~obstacle_grid`` (nav_msgs/OccupancyGrid of the
 obstacle memory, latched), ``~path`` (nav_msgs/Path, the planned path, empty when none) and
 ``~markers`` (visualization_msgs/MarkerArray: the can estimate, the state over the robot), all
 in ``~odom_frame``; ``/diagnostics`` (each input's rate and age, the state and why the command
-is zero or limited); ``~reset`` (std_srvs/Empty) returns to SEARCH and forgets the map. The behaviour is
-:mod:`can_seeker.control.controller`. Invalid safety bounds among the parameters stop the node
-at start (exit status 1); every control tick ends in a published command, zero when anything in
-it failed; a missing or stale input is warned about, throttled per input.
+is zero or limited); ``~reset`` (std_srvs/Empty) returns to SEARCH and forgets the map. The
+behaviour is :mod:`can_seeker.control.controller`. Invalid safety bounds among the parameters
+stop the node at start (exit status 1); every control tick ends in a published command, zero
+when anything in it failed; a missing or stale input is warned about, throttled per input.
 """
 import math
 import sys
