@@ -161,9 +161,10 @@ PARAMS = (
           '+ can_radius, the direct approach never brings the robot to them (m)', 0.0, 1.0,
           safer='lower'),
     Param('obstacle_memory', 15.0, 'the safety layer avoids a remembered obstacle until scans '
-          'have had it in their blind zone (nearer than range_min) for this long since one last '
-          'saw it (no ray can clear a phantom there); out of view it is kept until a scan sees '
-          'its place free (s)', 1.0, 600.0, safer='higher'),
+          'have had it in their blind zone (nearer than range_min, at any bearing: no ray can '
+          'clear a phantom there and no turn brings it into view) for this long since one last '
+          'saw it; farther out of view it is kept until a scan sees its place free (s)', 1.0,
+          600.0, safer='higher'),
     Param('unknown_floor_wait', 5.0, 'the safety layer keeps the robot off floor no sensor has '
           'observed; unknown floor that has been in a scan\'s blind disc (nearer than '
           'range_min, where no turn can observe it) for this long is taken for floor (s)', 0.5,

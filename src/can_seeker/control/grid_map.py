@@ -7,8 +7,10 @@ Two layers over the same square cells:
   (beside or behind the robot, or in the blind zone nearer than its range_min) or a few frames
   of a scan miss them (a camera sees a tall obstacle's silhouette lean past its base), and a
   moved object is cleared by the rays that keep passing through its old place. Each obstacle
-  cell also counts how long scans have had it in their blind zone since one last hit it: there
-  no ray can confirm or clear it, so a phantom there can be told apart only by that time;
+  cell also counts how long scans have had it in their blind zone (nearer than range_min to
+  the sensor, along a ray or beside the view) since one last hit it: there no ray can confirm
+  or clear it, and no turn of the robot brings it into view, so a phantom there can be told
+  apart only by that time;
 - coverage: the floor the camera has looked at, up to the range at which it would have found
   the can, stopping at obstacles. Exploration drives to where it has not looked yet;
 - observed, on cells of half the size: the floor some scan ray has reached (free or hit), the
@@ -94,18 +96,22 @@ class GridMap:
         ``source``: the floor along each ray from ``clear_from_m`` on is free, its end is an
         obstacle where ``hits`` is true (a ray without a return ends at the range it can vouch
         for). Nearer than ``clear_from_m`` the sensor is blind: what is remembered there stays,
-        and the time since the same sensor's previous scan is added to its blind time (along
-        the rays) and to the blind-disc time of every cell within ``clear_from_m``."""
+        and the time since the same sensor's previous scan is added to the blind time and the
+        blind-disc time of every cell within ``clear_from_m`` (at any bearing) and to the blind
+        time of the cells along the rays there."""
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
         previous_s = self.scan_s.get(source)
         elapsed = 0.0 if previous_s is None else elapsed_s(stamp_s, previous_s)
         self.scan_s[source] = stamp_s
+        in_disc = np.zeros_like(self.seen)
         if clear_from_m > 0.0 and elapsed > 0.0:
             ix, iy = self._window(origin_xy, clear_from_m)
             centres = self.centre_of(*np.meshgrid(ix, iy, indexing='ij'))
             disc = np.linalg.norm(centres - np.asarray(origin_xy, float), axis=-1) <= clear_from_m
             self.blind_disc_s[np.ix_(ix, iy)] += np.where(disc, elapsed, 0.0)
+            in_disc[np.ix_(ix, iy)] = disc
         if len(ends_xy) == 0:
+            self.blind_s[in_disc] += elapsed
             return
         origin = np.asarray(origin_xy, float).reshape(1, 2)
         step_m = self.resolution_m / 2.0
@@ -119,7 +125,8 @@ class GridMap:
         along = fractions[None, :] <= free_lengths[:, None]
         beyond_blind = fractions[None, :] >= clear_from_m
         free = self._cells(points[along & beyond_blind])
-        blind = self._cells(points[(fractions[None, :] <= lengths[:, None]) & ~beyond_blind])
+        blind = in_disc | self._cells(points[(fractions[None, :] <= lengths[:, None])
+                                             & ~beyond_blind])
         hits = np.asarray(hits, bool)
         # nearest to the sensor first: where one cell has several hits, that one is kept
         hit_xy = ends_xy[hits][np.argsort(lengths[hits], kind='stable')]
