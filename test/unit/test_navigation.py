@@ -527,3 +527,15 @@ def test_with_the_last_stretch_clear_the_robot_stops_straight_in_front_of_the_ca
     _, poses, _, _ = run(controller, world, 20.0, stop_when=stopped, camera_scan=True)
     assert controller.state is State.STOPPED
     assert max(abs(pose.y) for pose in poses) < 1e-6
+
+
+def test_straight_free_travel_is_the_free_travel_of_each_heading():
+    points = np.array([[0.6, 0.1], [0.2, -0.5], [-0.4, 0.3], [0.1, 0.25]])
+    clearance = np.array([0.2, 0.25, 0.2, 0.3])
+    headings = np.radians(np.arange(-180.0, 180.0, 7.5))
+    travel = avoidance.straight_free_travel_m(points, headings, clearance, 1.0)
+    for heading, free_m in zip(headings, travel):
+        facing = avoidance.to_frame(points, 0.0, 0.0, heading)
+        assert free_m == pytest.approx(avoidance.free_travel_m(facing, 0.3, 0.0, clearance, 1.0))
+    assert avoidance.straight_free_travel_m(np.zeros((0, 2)), headings, 0.2, 1.0).tolist() \
+        == [1.0] * len(headings)

@@ -49,16 +49,39 @@ def first_block(points: np.ndarray, linear: float, angular: float,
     points = np.asarray(points, float).reshape(-1, 2)
     if len(points) == 0:
         return horizon_m, None
-    clearance = np.broadcast_to(np.asarray(clearance_m, float), (len(points),))
-    allowed = np.minimum(clearance, np.linalg.norm(points, axis=1))
-    poses = arc_poses(linear, angular, horizon_m)
-    distances = np.linalg.norm(poses[:, None, :] - points[None, :, :], axis=-1)
-    touching = distances < allowed[None, :] - CLOSER_TOLERANCE_M
+    touching = _touching(arc_poses(linear, angular, horizon_m), points, clearance_m)
     blocked = np.nonzero(touching.any(axis=1))[0]
     if len(blocked) == 0:
         return horizon_m, None
     first = int(blocked[0])
     return max(0.0, float(first - 1) * ARC_STEP_M), int(np.argmax(touching[first]))
+
+
+def straight_free_travel_m(points: np.ndarray, headings_rad: np.ndarray,
+                           clearance_m: Union[float, np.ndarray], horizon_m: float) -> np.ndarray:
+    """:func:`free_travel_m` forward on the straight line of each of ``headings_rad``
+    (base_link), as once the robot has turned in place to that heading, in one pass."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    headings = np.asarray(headings_rad, float).reshape(-1)
+    if len(points) == 0:
+        return np.full(len(headings), horizon_m)
+    travel = np.arange(0.0, horizon_m + 1e-9, ARC_STEP_M)
+    poses = travel[None, :, None] * np.stack((np.cos(headings), np.sin(headings)),
+                                             axis=-1)[:, None, :]
+    blocked = _touching(poses, points, clearance_m).any(axis=-1)
+    first = np.argmax(blocked, axis=1)
+    return np.where(blocked.any(axis=1), np.maximum(0.0, (first - 1) * ARC_STEP_M), horizon_m)
+
+
+def _touching(poses: np.ndarray, points: np.ndarray,
+              clearance_m: Union[float, np.ndarray]) -> np.ndarray:
+    """(..., M, N): base_link at pose m (``poses`` ..., M x 2) is nearer point n than it may
+    come: its clearance, or where it already is within it, its distance now."""
+    clearance = np.broadcast_to(np.asarray(clearance_m, float), (len(points),))
+    limit = np.minimum(clearance, np.linalg.norm(points, axis=1)) - CLOSER_TOLERANCE_M
+    squared = ((poses * poses).sum(axis=-1)[..., None] + (points * points).sum(axis=1)
+               - 2.0 * poses @ points.T)
+    return squared < np.where(limit > 0.0, limit * limit, -1.0)
 
 
 def safe_linear(linear: float, free_m: float, decel_mps2: float, reserve_m: float) -> float:

@@ -221,12 +221,8 @@ class Navigator:
         unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
         points = np.concatenate((points, unknown_points))
         clearance = np.concatenate((clearance, np.full(len(unknown_points), unknown_clearance)))
-        travel_m = np.empty(len(targets))
-        for index, (x_m, y_m) in enumerate(targets):
-            facing = avoidance.to_frame(points, 0.0, 0.0, math.atan2(y_m, x_m))
-            travel_m[index] = avoidance.free_travel_m(facing, 1.0, 0.0, clearance,
-                                                      SAFETY_HORIZON_M)
-        return travel_m
+        return avoidance.straight_free_travel_m(points, np.arctan2(targets[:, 1], targets[:, 0]),
+                                                clearance, SAFETY_HORIZON_M)
 
     def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
                       margin_m: Optional[float] = None) -> np.ndarray:
