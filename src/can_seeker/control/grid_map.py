@@ -103,15 +103,16 @@ class GridMap:
         previous_s = self.scan_s.get(source)
         elapsed = 0.0 if previous_s is None else elapsed_s(stamp_s, previous_s)
         self.scan_s[source] = stamp_s
-        in_disc = np.zeros_like(self.seen)
+        disc_window = None
         if clear_from_m > 0.0 and elapsed > 0.0:
             ix, iy = self._window(origin_xy, clear_from_m)
             centres = self.centre_of(*np.meshgrid(ix, iy, indexing='ij'))
             disc = np.linalg.norm(centres - np.asarray(origin_xy, float), axis=-1) <= clear_from_m
-            self.blind_disc_s[np.ix_(ix, iy)] += np.where(disc, elapsed, 0.0)
-            in_disc[np.ix_(ix, iy)] = disc
+            disc_window = np.ix_(ix, iy), disc
+            self.blind_disc_s[disc_window[0]] += np.where(disc, elapsed, 0.0)
         if len(ends_xy) == 0:
-            self.blind_s[in_disc] += elapsed
+            if disc_window is not None:
+                self.blind_s[disc_window[0]] += np.where(disc_window[1], elapsed, 0.0)
             return
         origin = np.asarray(origin_xy, float).reshape(1, 2)
         step_m = self.resolution_m / 2.0
@@ -125,8 +126,9 @@ class GridMap:
         along = fractions[None, :] <= free_lengths[:, None]
         beyond_blind = fractions[None, :] >= clear_from_m
         free = self._cells(points[along & beyond_blind])
-        blind = in_disc | self._cells(points[(fractions[None, :] <= lengths[:, None])
-                                             & ~beyond_blind])
+        blind = self._cells(points[(fractions[None, :] <= lengths[:, None]) & ~beyond_blind])
+        if disc_window is not None:
+            blind[disc_window[0]] |= disc_window[1]
         hits = np.asarray(hits, bool)
         # nearest to the sensor first: where one cell has several hits, that one is kept
         hit_xy = ends_xy[hits][np.argsort(lengths[hits], kind='stable')]

@@ -200,15 +200,12 @@ class Navigator:
         """(free travel m along the command's arc, short of obstacles and unknown floor; the
         unknown floor point in base_link that ends it, None when an obstacle or nothing does),
         in one pass."""
-        points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
-        unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
-        travel_m, index = avoidance.first_block(
-            np.concatenate((points, unknown_points)), command[0], command[1],
-            np.concatenate((clearance, np.full(len(unknown_points), unknown_clearance))),
-            SAFETY_HORIZON_M)
-        if index is None or index < len(points):
+        points, clearance, obstacles = self._keep_off(exclude_xy, exclude_radius_m)
+        travel_m, index = avoidance.first_block(points, command[0], command[1], clearance,
+                                                SAFETY_HORIZON_M)
+        if index is None or index < obstacles:
             return travel_m, None
-        return travel_m, unknown_points[index - len(points)]
+        return travel_m, points[index]
 
     def free_travel_toward_m(self, targets_base: np.ndarray, exclude_xy=None,
                              exclude_radius_m: float = 0.0) -> np.ndarray:
@@ -217,12 +214,19 @@ class Navigator:
         robot has turned in place to face that target (turning is never limited): short of
         the obstacles and of the floor no sensor has observed."""
         targets = np.asarray(targets_base, float).reshape(-1, 2)
-        points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
-        unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
-        points = np.concatenate((points, unknown_points))
-        clearance = np.concatenate((clearance, np.full(len(unknown_points), unknown_clearance)))
+        points, clearance, _ = self._keep_off(exclude_xy, exclude_radius_m)
         return avoidance.straight_free_travel_m(points, np.arctan2(targets[:, 1], targets[:, 0]),
                                                 clearance, SAFETY_HORIZON_M)
+
+    def _keep_off(self, exclude_xy, exclude_radius_m: float) -> Tuple[np.ndarray, np.ndarray,
+                                                                       int]:
+        """(points N x 2 in base_link, clearance m each, how many of them are obstacles) that
+        the safety layer keeps the robot from: the obstacles first, then the unknown floor."""
+        points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
+        unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
+        return (np.concatenate((points, unknown_points)),
+                np.concatenate((clearance, np.full(len(unknown_points), unknown_clearance))),
+                len(points))
 
     def blocked_cells(self, exclude_xy=None, exclude_radius_m: float = 0.0,
                       margin_m: Optional[float] = None) -> np.ndarray:
