@@ -16,6 +16,16 @@ The baseline, ``dark``, is the tutorial's: every pixel darker than a grey level 
 Both remove speckles and keep the obstacle regions above a minimum area whose outline is an
 edge: a region whose outline (away from the image border) changes colour only gradually is
 shading of the floor (lens vignetting, light falling off, a soft shadow), not an object.
+
+A camera's white balance drifts: every channel's gain wanders, so a pale floor tile's
+saturation crosses the line at which it has a hue within seconds, and the whole tile becomes an
+obstacle. Channel gains multiply, so in log chromaticity (log R/G, log B/G) a drift moves every
+colour of the image by the same shift. The adaptive model therefore also keeps the reference
+area's log-chromaticity histogram and, each frame, finds the shift that lays the reference area
+back on it (all the floor's colours move together, whatever the mix of tiles in view) and undoes
+it on the whole image before classifying (von Kries' chromatic adaptation, anchored on the
+floor). The shift follows a drift's pace and stays within ``~max_colour_shift``; a colour that
+differs from the floor's by more is never explained away as white balance.
 """
 from dataclasses import dataclass
 from typing import Optional
@@ -24,6 +34,7 @@ import cv2
 import numpy as np
 
 from can_seeker.params import Param
+from can_seeker.vision.white_balance import WhiteBalanceLock
 
 FLOOR_MODELS = ('adaptive', 'dark')
 
@@ -56,6 +67,10 @@ FLOOR_PARAMS = (
           'reference area is more than this fraction obstacle pixels (1)', 0.0, 1.0),
     Param('min_obstacle_area', 0.001, 'obstacle regions smaller than this fraction of the image '
           'area are ignored as noise (1)', 0.0, 1.0),
+    Param('max_colour_shift', 0.3, 'largest white-balance drift the floor model undoes: the '
+          'log-chromaticity shift (natural log of a channel ratio to green) that lays the '
+          'reference area\'s colours back on the floor model\'s, undone on the whole image '
+          'before classifying (0 = off)', 0.0, 1.0),
     Param('min_edge_contrast', 1.5, 'obstacle regions whose outline (away from the image '
           'border) has a mean colour gradient below this are floor shading (vignetting, light '
           'fall-off), not objects (grey levels per pixel, after a 5x5 Gaussian blur; 0 = keep '
@@ -74,6 +89,7 @@ class FloorSettings:
     reference_height: float = 0.2
     suspect_fraction: float = 0.3
     min_obstacle_area: float = 0.001
+    max_colour_shift: float = 0.3
     min_edge_contrast: float = 1.5
 
     @classmethod
@@ -124,6 +140,7 @@ class FloorClassifier:
 
     def __init__(self, settings: Optional[FloorSettings] = None):
         self.settings = settings if settings is not None else FloorSettings()
+        self.white_balance = WhiteBalanceLock(self.settings.max_colour_shift)
         self._shape = None
         self.colour_model = None
         self.value_model = None
@@ -133,6 +150,7 @@ class FloorClassifier:
         """Forget the floor model: the next frame's reference area is learned afresh."""
         self.colour_model = None
         self.value_model = None
+        self.white_balance.reset()
 
     def _prepare(self, shape):
         if shape == self._shape:
@@ -158,7 +176,12 @@ class FloorClassifier:
             raw = np.where(grey < self.settings.dark_threshold, 255, 0).astype(np.uint8)
             self.model_updated = False
         else:
-            raw = self._appearance_obstacles(bgr, ignore)
+            reference = self._reference_pixels
+            if ignore is not None:
+                reference = reference & (ignore == 0)
+            self.white_balance.track(bgr[reference])
+            bgr = self.white_balance.correct(bgr)
+            raw = self._appearance_obstacles(bgr, reference)
         if ignore is not None:
             raw[ignore > 0] = 0
         return self._obstacle_regions(raw, bgr)
@@ -178,11 +201,8 @@ class FloorClassifier:
         total = counts.sum()
         return counts / total if total > 0 else None
 
-    def _appearance_obstacles(self, bgr, ignore):
+    def _appearance_obstacles(self, bgr, reference):
         colour, value = self._features(bgr)
-        reference = self._reference_pixels
-        if ignore is not None:
-            reference = reference & (ignore == 0)
         if self.colour_model is None:
             self.colour_model = self._histogram(colour, reference, GREY_BIN + 1)
             self.value_model = self._histogram(value, reference, VALUE_BINS)
@@ -200,25 +220,29 @@ class FloorClassifier:
         raw = cv2.LUT(colour, obstacle_table)
         cv2.bitwise_or(raw, cv2.LUT(value, np.where(value_floor, 0, 255).astype(np.uint8)),
                        dst=raw)
-        self._update_model(colour, value, raw, reference)
+        floor = self._update_model(colour, value, raw, reference)
+        if floor is not None:
+            self.white_balance.learn(bgr[floor], self.settings.adapt_rate)
         return raw
 
     def _update_model(self, colour, value, raw, reference):
-        """Blend the reference area's floor pixels into the model unless the area is suspect."""
+        """Blend the reference area's floor pixels into the model unless the area is suspect;
+        those pixels (a boolean image), or None when the model was not updated."""
         self.model_updated = False
         rate = self.settings.adapt_rate
         in_reference = int(np.count_nonzero(reference))
         if rate <= 0.0 or in_reference == 0:
-            return
+            return None
         floor = reference & (raw == 0)
         floor_count = int(np.count_nonzero(floor))
         if floor_count == 0 or 1.0 - floor_count / in_reference > self.settings.suspect_fraction:
-            return
+            return None
         colour_new = self._histogram(colour, floor, GREY_BIN + 1)
         value_new = self._histogram(value, floor, VALUE_BINS)
         self.colour_model = (1.0 - rate) * self.colour_model + rate * colour_new
         self.value_model = (1.0 - rate) * self.value_model + rate * value_new
         self.model_updated = True
+        return floor
 
     def _obstacle_regions(self, raw, bgr):
         """Speckles opened away; connected regions of at least the minimum area whose outline

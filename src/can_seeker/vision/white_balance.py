@@ -1,0 +1,145 @@
+"""Undoing a camera's white-balance drift against a surface known to be in view (the floor).
+
+A white-balance change multiplies each channel by a gain, so in log chromaticity
+(log R/G, log B/G) it moves every colour of the image by one and the same shift (von Kries'
+model of chromatic adaptation). :class:`WhiteBalanceLock` keeps a histogram of the reference
+pixels' log chromaticity and, each frame, finds the shift that lays the current reference
+pixels back on it by cross-correlating the two histograms. A floor of several colours moves as
+one, so the shift does not depend on the mix of its colours in view, and an object covering
+part of the reference area adds mass away from the peak without moving it much. The shift may
+change only as fast as a drift does, and never by more than a bound: a surface whose colour
+differs from the floor's by more than the bound is never explained away as white balance.
+"""
+from typing import Optional
+
+import cv2
+import numpy as np
+
+CHROMA_BIN = 0.02
+"""Width of a log-chromaticity histogram bin (natural log units, about 2 % in a ratio)."""
+CHROMA_HALF_RANGE_BINS = 40
+"""The histograms span +-0.8 in each log ratio (bins either side of grey)."""
+STEP_BINS = 3
+"""Largest change of the shift from one frame to the next (bins): a drift's pace, not a
+jump to another surface."""
+MIN_PIXELS = 200
+"""Fewer usable reference pixels than this (a dark floor, a close object) keep the shift."""
+MIN_OVERLAP = 0.3
+"""The shifted histograms must share at least this much mass (0-1) for the shift to count."""
+MIN_VALUE = 40
+"""Pixels darker than this (0-255) have no reliable chromaticity."""
+MAX_VALUE = 250
+"""Pixels with a channel this bright may be clipped: their chromaticity is not the surface's."""
+
+
+def _ratio_bin_table() -> np.ndarray:
+    """Histogram bin (0-255: 255 for none) of log(a/b) for every pair of levels (a, b)."""
+    levels = np.log(np.maximum(np.arange(256, dtype=np.float64), 0.5))
+    bins = np.rint((levels[:, None] - levels[None, :]) / CHROMA_BIN) + CHROMA_HALF_RANGE_BINS
+    table = np.where((bins >= 0) & (bins <= 2 * CHROMA_HALF_RANGE_BINS), bins, 255)
+    table[0, :] = table[:, 0] = 255
+    return table.astype(np.uint8)
+
+
+RATIO_BIN = _ratio_bin_table()
+
+
+def log_chromaticity_histogram(bgr_pixels: np.ndarray) -> Optional[np.ndarray]:
+    """Normalised, lightly smoothed 2-D histogram (rows log B/G, columns log R/G) of an Nx3
+    uint8 array of BGR pixels; None when too few of them have a reliable chromaticity."""
+    if len(bgr_pixels) < MIN_PIXELS:
+        return None
+    blue, green, red = bgr_pixels[:, 0], bgr_pixels[:, 1], bgr_pixels[:, 2]
+    rows = RATIO_BIN[blue, green]
+    columns = RATIO_BIN[red, green]
+    brightest = np.maximum(np.maximum(blue, green), red)
+    usable = (rows != 255) & (columns != 255) & (brightest >= MIN_VALUE) & (brightest < MAX_VALUE)
+    if np.count_nonzero(usable) < MIN_PIXELS:
+        return None
+    size = 2 * CHROMA_HALF_RANGE_BINS + 1
+    counts = np.bincount(rows[usable].astype(np.intp) * size + columns[usable],
+                         minlength=size * size)
+    histogram = cv2.GaussianBlur(counts.reshape(size, size).astype(np.float32), (5, 5), 1.0)
+    return histogram / float(histogram.sum())
+
+
+def _peak_offset(below: float, peak: float, above: float) -> float:
+    """Sub-bin position of a peak from its two neighbours (parabola through three points)."""
+    curvature = below - 2.0 * peak + above
+    if curvature >= 0.0:
+        return 0.0
+    return float(np.clip(0.5 * (below - above) / curvature, -0.5, 0.5))
+
+
+class WhiteBalanceLock:
+    """Channel gains that undo the white-balance drift seen on the reference pixels.
+
+    ``shift_log`` is (log R/G, log B/G) now minus when learned; :meth:`gains` undo it.
+    """
+
+    def __init__(self, max_shift_log: float):
+        self.max_shift_log = max_shift_log
+        self.reset()
+
+    def reset(self):
+        """Forget the reference chromaticity: the next frame is learned afresh."""
+        self.model = None
+        self.shift_log = np.zeros(2)
+
+    def track(self, bgr_pixels: np.ndarray):
+        """Follow the drift to this frame's reference pixels (Nx3 uint8 BGR)."""
+        if self.max_shift_log <= 0.0:
+            return
+        current = log_chromaticity_histogram(bgr_pixels)
+        if current is None:
+            return
+        if self.model is None:
+            self.model = current
+            return
+        limit = int(np.floor(self.max_shift_log / CHROMA_BIN))
+        padded = cv2.copyMakeBorder(current, limit, limit, limit, limit, cv2.BORDER_CONSTANT,
+                                    value=0.0)
+        correlation = cv2.matchTemplate(padded, self.model, cv2.TM_CCORR)
+        previous = np.rint(self.shift_log / CHROMA_BIN).astype(int)
+        shifts = np.arange(-limit, limit + 1)
+        near_column = np.abs(shifts - previous[0]) <= STEP_BINS
+        near_row = np.abs(shifts - previous[1]) <= STEP_BINS
+        allowed = np.where(near_row[:, None] & near_column[None, :], correlation, -1.0)
+        row, column = np.unravel_index(int(np.argmax(allowed)), allowed.shape)
+        size = self.model.shape[0]
+        overlap = float(np.minimum(padded[row:row + size, column:column + size],
+                                   self.model).sum())
+        if overlap < MIN_OVERLAP:
+            return
+        column_offset = (_peak_offset(correlation[row, column - 1], correlation[row, column],
+                                      correlation[row, column + 1])
+                         if 0 < column < 2 * limit else 0.0)
+        row_offset = (_peak_offset(correlation[row - 1, column], correlation[row, column],
+                                   correlation[row + 1, column])
+                      if 0 < row < 2 * limit else 0.0)
+        shift = np.array((shifts[column] + column_offset, shifts[row] + row_offset)) * CHROMA_BIN
+        self.shift_log = np.clip(shift, -self.max_shift_log, self.max_shift_log)
+
+    def learn(self, bgr_pixels: np.ndarray, rate: float):
+        """Blend reference pixels known to be floor, already corrected, into the model."""
+        if self.model is None or rate <= 0.0:
+            return
+        current = log_chromaticity_histogram(bgr_pixels)
+        if current is not None:
+            self.model = (1.0 - rate) * self.model + rate * current
+
+    def gains(self) -> Optional[np.ndarray]:
+        """Per-channel gains (B, G, R) that undo the drift; None while there is none to undo
+        (under half a bin either way)."""
+        if np.all(np.abs(self.shift_log) < 0.5 * CHROMA_BIN):
+            return None
+        return np.array((np.exp(-self.shift_log[1]), 1.0, np.exp(-self.shift_log[0])))
+
+    def correct(self, bgr: np.ndarray) -> np.ndarray:
+        """``bgr`` with the drift undone (the same array when there is none)."""
+        gains = self.gains()
+        if gains is None:
+            return bgr
+        levels = np.arange(256, dtype=np.float64)[:, None] * gains[None, :]
+        table = np.clip(np.rint(levels), 0, 255).astype(np.uint8).reshape(256, 1, 3)
+        return cv2.LUT(bgr, table)
