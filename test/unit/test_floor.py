@@ -180,3 +180,51 @@ def test_colour_gradient_is_bit_for_bit_the_float_computation(seed):
     reference = reference_colour_gradient(bgr)
     assert np.array_equal(colour_gradient(bgr), reference)
     assert np.array_equal(colour_gradient(bgr, where), reference[where])
+
+
+def _checker(first_bgr, second_bgr, gains_bgr=(1.0, 1.0, 1.0), offset_px=0, seed=0):
+    """A two-tile checker floor (40 px tiles) seen through channel gains, with noise."""
+    rows, columns = np.mgrid[0:HEIGHT, 0:WIDTH]
+    second = ((columns + offset_px) // 40 + rows // 40) % 2 == 1
+    image = np.where(second[:, :, None], np.array(second_bgr, float), np.array(first_bgr, float))
+    image = image * np.asarray(gains_bgr)[None, None, :]
+    image += np.random.default_rng(seed).normal(0.0, 4.0, image.shape)
+    return np.clip(image, 0, 255).astype(np.uint8)
+
+
+def test_a_drifting_white_balance_does_not_turn_a_pale_tile_into_an_obstacle():
+    """The camera's blue gain creeps up 20 % and its red gain down 16 % in 3 s while the robot
+    drives over a white and pale lavender checker: the lavender's saturation crosses the line at
+    which it has a hue, and without undoing the drift its tiles become obstacles; a dark box
+    stays one."""
+    white, lavender = (205, 205, 200), (200, 170, 180)
+    locked = FloorClassifier()
+    unlocked = FloorClassifier(FloorSettings(max_colour_shift=0.0))
+    for classifier in (locked, unlocked):
+        classifier.classify(_checker(white, lavender))
+    for step in range(1, 46):
+        drift_log = 0.18 * step / 45
+        gains = (np.exp(drift_log), 1.0, np.exp(-drift_log))
+        image = with_box(_checker(white, lavender, gains, 3 * step, step), (60, 60, 60))
+        locked_mask, unlocked_mask = locked.classify(image), unlocked.classify(image)
+        recall, false_rate = box_recall_and_false_rate(locked_mask)
+        assert recall > 0.98 and false_rate < 0.002
+    assert box_recall_and_false_rate(unlocked_mask)[1] > 0.3
+
+
+def test_an_obstacle_filling_the_reference_area_does_not_move_the_white_balance():
+    """A darker wall (value 133, the floor's 165) of nearly the floor's chromaticity (5 %
+    redder) creeps over the reference area until it covers most of it: it is an obstacle by its
+    brightness, so it never tells the white balance where the floor's colours went (measured on
+    every reference pixel, the shift followed the wall to 0.047), and the floor keeps its
+    colour."""
+    classifier = FloorClassifier()
+    classifier.classify(floor_image((150, 165, 160)))
+    for step in range(80):
+        bottom = min(170 + step, 225)
+        image = with_box(floor_image((150, 165, 160), seed=step), (120, 130, 133),
+                         (0, 0, WIDTH, bottom))
+        mask = classifier.classify(image)
+        assert np.abs(classifier.white_balance.shift_log).max() < 0.01
+        assert mask[:bottom - 1].all()
+        assert not mask[bottom + 2:].any()

@@ -179,9 +179,7 @@ class FloorClassifier:
             reference = self._reference_pixels
             if ignore is not None:
                 reference = reference & (ignore == 0)
-            self.white_balance.track(bgr[reference])
-            bgr = self.white_balance.correct(bgr)
-            raw = self._appearance_obstacles(bgr, reference)
+            bgr, raw = self._appearance_obstacles(bgr, reference)
         if ignore is not None:
             raw[ignore > 0] = 0
         return self._obstacle_regions(raw, bgr)
@@ -202,27 +200,44 @@ class FloorClassifier:
         return counts / total if total > 0 else None
 
     def _appearance_obstacles(self, bgr, reference):
-        colour, value = self._features(bgr)
+        """(image with the white-balance drift undone, raw obstacle pixels); updates the
+        models. The drift is measured on the reference pixels that are floor with the last
+        frame's correction: an obstacle in front of the robot never moves it."""
         if self.colour_model is None:
+            self.white_balance.track(bgr[reference])
+            colour, value = self._features(bgr)
             self.colour_model = self._histogram(colour, reference, GREY_BIN + 1)
             self.value_model = self._histogram(value, reference, VALUE_BINS)
             if self.colour_model is None or self.value_model is None:
                 self.reset()
                 self.model_updated = False
-                return np.zeros(bgr.shape[:2], np.uint8)
+                return bgr, np.zeros(bgr.shape[:2], np.uint8)
+            raw = self._obstacle_pixels(colour, value)
+        else:
+            if self.white_balance.max_shift_log > 0.0:
+                top = int(self.reference_corners[:, 1].min())
+                colour, value = self._features(self.white_balance.correct(bgr[top:]))
+                floor_before = reference[top:] & (self._obstacle_pixels(colour, value) == 0)
+                self.white_balance.track(bgr[top:][floor_before])
+                bgr = self.white_balance.correct(bgr)
+            colour, value = self._features(bgr)
+            raw = self._obstacle_pixels(colour, value)
+        floor = self._update_model(colour, value, raw, reference)
+        if floor is not None:
+            self.white_balance.learn(bgr[floor], self.settings.adapt_rate)
+        return bgr, raw
+
+    def _obstacle_pixels(self, colour, value):
+        """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model."""
         threshold = self.settings.min_bin_fraction
         colour_floor = np.zeros(256, bool)
         colour_floor[:HUE_BINS] = _tolerant(self.colour_model[:HUE_BINS] >= threshold, True)
         colour_floor[GREY_BIN] = self.colour_model[GREY_BIN] >= threshold
         value_floor = np.zeros(256, bool)
         value_floor[:VALUE_BINS] = _tolerant(self.value_model >= threshold, False)
-        obstacle_table = np.where(colour_floor, 0, 255).astype(np.uint8)
-        raw = cv2.LUT(colour, obstacle_table)
+        raw = cv2.LUT(colour, np.where(colour_floor, 0, 255).astype(np.uint8))
         cv2.bitwise_or(raw, cv2.LUT(value, np.where(value_floor, 0, 255).astype(np.uint8)),
                        dst=raw)
-        floor = self._update_model(colour, value, raw, reference)
-        if floor is not None:
-            self.white_balance.learn(bgr[floor], self.settings.adapt_rate)
         return raw
 
     def _update_model(self, colour, value, raw, reference):

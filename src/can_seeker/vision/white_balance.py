@@ -6,9 +6,12 @@ model of chromatic adaptation). :class:`WhiteBalanceLock` keeps a histogram of t
 pixels' log chromaticity and, each frame, finds the shift that lays the current reference
 pixels back on it by cross-correlating the two histograms. A floor of several colours moves as
 one, so the shift does not depend on the mix of its colours in view, and an object covering
-part of the reference area adds mass away from the peak without moving it much. The shift may
-change only as fast as a drift does, and never by more than a bound: a surface whose colour
-differs from the floor's by more than the bound is never explained away as white balance.
+part of the reference area adds mass away from the peak without moving it much (the floor
+classifier also feeds it only the pixels that are floor). The shift may change only as fast as a
+drift does, never by more than a bound, and is let go toward none, at the pace a camera's own
+white balance pulls its drift back, while nothing in view measures it: a lost lock does not
+stay lost, and a surface whose colour differs from the floor's by more than a frame's drift is
+never explained away as white balance.
 """
 from typing import Optional
 
@@ -26,6 +29,9 @@ MIN_PIXELS = 200
 """Fewer usable reference pixels than this (a dark floor, a close object) keep the shift."""
 MIN_OVERLAP = 0.3
 """The shifted histograms must share at least this much mass (0-1) for the shift to count."""
+RELAX_RATE = 0.05
+"""Fraction of the shift let go per frame without a measurement (a camera's white balance
+pulls its own drift back at about this pace)."""
 MIN_VALUE = 40
 """Pixels darker than this (0-255) have no reliable chromaticity."""
 MAX_VALUE = 250
@@ -71,6 +77,19 @@ def _peak_offset(below: float, peak: float, above: float) -> float:
     return float(np.clip(0.5 * (below - above) / curvature, -0.5, 0.5))
 
 
+def _climb(surface: np.ndarray, start) -> tuple:
+    """The local maximum of ``surface`` reached uphill from ``start`` (row, column): the
+    prior only chooses between peaks, it does not move one."""
+    row, column = int(start[0]), int(start[1])
+    while True:
+        top = surface[max(row - 1, 0):row + 2, max(column - 1, 0):column + 2]
+        step_row, step_column = np.unravel_index(int(np.argmax(top)), top.shape)
+        best_row, best_column = max(row - 1, 0) + step_row, max(column - 1, 0) + step_column
+        if surface[best_row, best_column] <= surface[row, column]:
+            return row, column
+        row, column = best_row, best_column
+
+
 class WhiteBalanceLock:
     """Channel gains that undo the white-balance drift seen on the reference pixels.
 
@@ -87,16 +106,23 @@ class WhiteBalanceLock:
         self.shift_log = np.zeros(2)
 
     def track(self, bgr_pixels: np.ndarray):
-        """Follow the drift to this frame's reference pixels (Nx3 uint8 BGR)."""
+        """Follow the drift to this frame's floor pixels (Nx3 uint8 BGR, not corrected)."""
         if self.max_shift_log <= 0.0:
             return
         current = log_chromaticity_histogram(bgr_pixels)
         if current is None:
+            self.shift_log *= 1.0 - RELAX_RATE
             return
         if self.model is None:
             self.model = current
             return
-        limit = int(np.floor(self.max_shift_log / CHROMA_BIN))
+        if not self._measure(current):
+            self.shift_log *= 1.0 - RELAX_RATE
+
+    def _measure(self, current: np.ndarray) -> bool:
+        """Move the shift to where ``current`` lies best on the model, near the last shift and,
+        of equal fits, nearer none; False when it fits nowhere near."""
+        limit = max(1, int(np.floor(self.max_shift_log / CHROMA_BIN)))
         padded = cv2.copyMakeBorder(current, limit, limit, limit, limit, cv2.BORDER_CONSTANT,
                                     value=0.0)
         correlation = cv2.matchTemplate(padded, self.model, cv2.TM_CCORR)
@@ -104,13 +130,16 @@ class WhiteBalanceLock:
         shifts = np.arange(-limit, limit + 1)
         near_column = np.abs(shifts - previous[0]) <= STEP_BINS
         near_row = np.abs(shifts - previous[1]) <= STEP_BINS
-        allowed = np.where(near_row[:, None] & near_column[None, :], correlation, -1.0)
-        row, column = np.unravel_index(int(np.argmax(allowed)), allowed.shape)
+        window = near_row[:, None] & near_column[None, :]
+        prior = np.exp(-0.5 * (shifts / (0.5 * limit)) ** 2)
+        weighted = np.where(window, correlation * prior[:, None] * prior[None, :], -1.0)
+        row, column = _climb(np.where(window, correlation, -1.0),
+                             np.unravel_index(int(np.argmax(weighted)), weighted.shape))
         size = self.model.shape[0]
         overlap = float(np.minimum(padded[row:row + size, column:column + size],
                                    self.model).sum())
         if overlap < MIN_OVERLAP:
-            return
+            return False
         column_offset = (_peak_offset(correlation[row, column - 1], correlation[row, column],
                                       correlation[row, column + 1])
                          if 0 < column < 2 * limit else 0.0)
@@ -119,6 +148,7 @@ class WhiteBalanceLock:
                       if 0 < row < 2 * limit else 0.0)
         shift = np.array((shifts[column] + column_offset, shifts[row] + row_offset)) * CHROMA_BIN
         self.shift_log = np.clip(shift, -self.max_shift_log, self.max_shift_log)
+        return True
 
     def learn(self, bgr_pixels: np.ndarray, rate: float):
         """Blend reference pixels known to be floor, already corrected, into the model."""

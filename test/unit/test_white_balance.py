@@ -1,0 +1,102 @@
+"""White-balance lock: the log-chromaticity shift of a drifting camera, found on the floor
+whatever the mix of its colours, bounded in pace and size."""
+import numpy as np
+import pytest
+
+from can_seeker.vision.white_balance import CHROMA_BIN, RELAX_RATE, STEP_BINS, WhiteBalanceLock
+
+WHITE_TILE = (205, 205, 200)
+LAVENDER_TILE = (200, 170, 180)
+"""BGR: a pale lavender tile (saturation 38, hue 130) and an off-white one."""
+
+
+def tile_pixels(lavender_fraction, gains_bgr=(1.0, 1.0, 1.0), count=12000, seed=0):
+    """Nx3 uint8 reference pixels of a two-tile floor seen through channel gains, with noise."""
+    rng = np.random.default_rng(seed)
+    lavender = rng.random(count) < lavender_fraction
+    pixels = np.where(lavender[:, None], np.array(LAVENDER_TILE, float),
+                      np.array(WHITE_TILE, float))
+    pixels = pixels * np.asarray(gains_bgr)[None, :] + rng.normal(0.0, 4.0, pixels.shape)
+    return np.clip(np.rint(pixels), 0, 255).astype(np.uint8)
+
+
+def drift_gains(red_log, blue_log):
+    return (np.exp(blue_log), 1.0, np.exp(red_log))
+
+
+@pytest.mark.parametrize('learned_mix,current_mix', [(0.5, 0.5), (0.2, 0.8), (0.8, 0.1)])
+def test_the_shift_is_the_drift_whatever_the_mix_of_floor_colours(learned_mix, current_mix):
+    lock = WhiteBalanceLock(0.3)
+    lock.track(tile_pixels(learned_mix))
+    red_log, blue_log = 0.0, 0.0
+    for step in range(1, 21):
+        red_log, blue_log = 0.006 * step, -0.004 * step
+        lock.track(tile_pixels(current_mix, drift_gains(red_log, blue_log), seed=step))
+    assert lock.shift_log == pytest.approx((red_log, blue_log), abs=0.006)
+    corrected = lock.correct(tile_pixels(current_mix, drift_gains(red_log, blue_log))[None])
+    assert corrected[0].mean(axis=0) == pytest.approx(
+        tile_pixels(current_mix)[None][0].mean(axis=0), abs=1.0)
+
+
+@pytest.mark.parametrize('wall_red_log', [0.25, 0.45])
+def test_a_surface_of_another_colour_filling_the_reference_area_is_not_taken_for_drift(
+        wall_red_log):
+    """A wall 25 % or 57 % redder than the floor, in view all at once, is farther than a drift
+    moves in a frame: it shares no colour with the floor near the last shift, and the shift
+    stays where the floor left it."""
+    lock = WhiteBalanceLock(0.3)
+    lock.track(tile_pixels(0.0))
+    for step in range(30):
+        lock.track(tile_pixels(0.0, drift_gains(wall_red_log, 0.0), seed=step))
+        assert np.abs(lock.shift_log).max() < 0.5 * CHROMA_BIN
+
+
+def test_the_shift_moves_at_a_drift_pace_and_within_its_bound():
+    lock = WhiteBalanceLock(0.2)
+    lock.track(tile_pixels(0.5))
+    shifts = []
+    for step in range(1, 40):
+        lock.track(tile_pixels(0.5, drift_gains(0.02 * step, 0.0), seed=step))
+        shifts.append(lock.shift_log.copy())
+    steps = np.abs(np.diff(np.array([(0.0, 0.0)] + shifts), axis=0))
+    assert steps.max() <= (STEP_BINS + 0.5) * CHROMA_BIN
+    assert np.abs(np.array(shifts)).max() == pytest.approx(0.2)
+
+
+def test_no_drift_leaves_the_image_untouched():
+    lock = WhiteBalanceLock(0.3)
+    for step in range(5):
+        lock.track(tile_pixels(0.3 + 0.1 * step, seed=step))
+    image = tile_pixels(0.5)[None]
+    assert lock.gains() is None
+    assert lock.correct(image) is image
+    off = WhiteBalanceLock(0.0)
+    off.track(tile_pixels(0.5))
+    off.track(tile_pixels(0.5, drift_gains(0.1, 0.0)))
+    assert off.gains() is None
+
+
+def test_a_shift_nothing_measures_is_let_go():
+    """Lost (the floor out of view or out of reach of a frame's drift), the shift relaxes to
+    none at the white balance's own pace instead of holding a correction nothing confirms."""
+    lock = WhiteBalanceLock(0.3)
+    lock.track(tile_pixels(0.5))
+    for step in range(1, 8):
+        lock.track(tile_pixels(0.5, drift_gains(0.02 * step, 0.0), seed=step))
+    held = lock.shift_log.copy()
+    assert held[0] == pytest.approx(0.14, abs=0.01)
+    for step in range(20):
+        lock.track(np.zeros((0, 3), np.uint8))
+    assert lock.shift_log == pytest.approx(held * (1.0 - RELAX_RATE) ** 20)
+    wall = tile_pixels(0.0, drift_gains(-0.3, 0.3))
+    lock.track(wall)
+    assert lock.shift_log == pytest.approx(held * (1.0 - RELAX_RATE) ** 21)
+
+
+def test_a_dark_floor_teaches_nothing():
+    """A dark floor has no reliable chromaticity: nothing is learned, nothing corrected."""
+    lock = WhiteBalanceLock(0.3)
+    dark = np.full((5000, 3), 20, np.uint8)
+    lock.track(dark)
+    lock.track(np.clip(dark * 1.3, 0, 255).astype(np.uint8))
+    assert lock.model is None and lock.gains() is None
