@@ -198,8 +198,8 @@ def test_a_drifting_white_balance_does_not_turn_a_pale_tile_into_an_obstacle():
     which it has a hue, and without undoing the drift its tiles become obstacles; a dark box
     stays one."""
     white, lavender = (205, 205, 200), (200, 170, 180)
-    locked = FloorClassifier()
-    unlocked = FloorClassifier(FloorSettings(max_colour_shift=0.0))
+    locked = FloorClassifier(FloorSettings(max_colour_shift=0.3))
+    unlocked = FloorClassifier()
     for classifier in (locked, unlocked):
         classifier.classify(_checker(white, lavender))
     for step in range(1, 46):
@@ -218,7 +218,7 @@ def test_an_obstacle_filling_the_reference_area_does_not_move_the_white_balance(
     brightness, so it never tells the white balance where the floor's colours went (measured on
     every reference pixel, the shift followed the wall to 0.047), and the floor keeps its
     colour."""
-    classifier = FloorClassifier()
+    classifier = FloorClassifier(FloorSettings(max_colour_shift=0.3))
     classifier.classify(floor_image((150, 165, 160)))
     for step in range(80):
         bottom = min(170 + step, 225)

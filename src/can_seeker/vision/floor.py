@@ -67,10 +67,11 @@ FLOOR_PARAMS = (
           'reference area is more than this fraction obstacle pixels (1)', 0.0, 1.0),
     Param('min_obstacle_area', 0.001, 'obstacle regions smaller than this fraction of the image '
           'area are ignored as noise (1)', 0.0, 1.0),
-    Param('max_colour_shift', 0.3, 'largest white-balance drift the floor model undoes: the '
+    Param('max_colour_shift', 0.0, 'largest white-balance drift the floor model undoes: the '
           'log-chromaticity shift (natural log of a channel ratio to green) that lays the '
           'reference area\'s colours back on the floor model\'s, undone on the whole image '
-          'before classifying (0 = off)', 0.0, 1.0),
+          'before classifying; 0 = off (for a camera whose white balance drifts, e.g. 0.3)',
+          0.0, 1.0),
     Param('min_edge_contrast', 1.5, 'obstacle regions whose outline (away from the image '
           'border) has a mean colour gradient below this are floor shading (vignetting, light '
           'fall-off), not objects (grey levels per pixel, after a 5x5 Gaussian blur; 0 = keep '
@@ -89,7 +90,7 @@ class FloorSettings:
     reference_height: float = 0.2
     suspect_fraction: float = 0.3
     min_obstacle_area: float = 0.001
-    max_colour_shift: float = 0.3
+    max_colour_shift: float = 0.0
     min_edge_contrast: float = 1.5
 
     @classmethod
