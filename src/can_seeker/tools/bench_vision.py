@@ -5,8 +5,8 @@ largest blob, moments, Canny edges, range and bearing) against the classic image
 tutorial callback (HSV, inRange, bitwise_and, moments, Canny on grey, three half-size resizes)
 at 320x240, 640x480 and 1280x720, with OpenCV on one thread and on its default threads.
 Part 2 times the camera obstacle scan (floor classification, can exclusion, per-column bases,
-scan bins) with the adaptive floor model and the tutorial's dark threshold, beside the
-tutorial's obstacle callback (grey, threshold, findContours, largest contour, boundingRect).
+scan bins) with the adaptive floor model (without and with its white-balance correction) and
+the tutorial's dark threshold, beside the tutorial's obstacle callback (grey, threshold, findContours, largest contour, boundingRect).
 Part 3 starts its own master on a free port and an image_converter node, publishes 640x480
 bgr8 frames at 30 Hz and then as fast as possible, and measures stamp -> detection received.
 The numbers depend on the machine's load: rerun on an idle machine for reference values.
@@ -129,15 +129,17 @@ def tutorial_obstacle_callback(bgr):
 def bench_obstacle_scan(frames):
     print('\nCamera obstacle scan per frame (ms; median / p95), %d frames each, OpenCV on %d '
           'threads' % (frames, cv2.getNumThreads()))
-    print('| size | adaptive floor model | dark threshold | tutorial obstacle callback |')
-    print('|---|---|---|---|')
+    print('| size | adaptive floor model | adaptive, max_colour_shift 0.3 | dark threshold | '
+          'tutorial obstacle callback |')
+    print('|---|---|---|---|---|')
     pose = fallback_pose(0.25, 25.0)
     for width, height in SIZES:
         image = obstacle_scene(width, height)
         intrinsics = intrinsics_from_vertical_fov(width, height, 45.0)
         cells = []
-        for floor_model in ('adaptive', 'dark'):
-            scanner = CameraScanner(FloorSettings(floor_model=floor_model))
+        for settings in (FloorSettings(), FloorSettings(max_colour_shift=0.3),
+                         FloorSettings(floor_model='dark')):
+            scanner = CameraScanner(settings)
             result = scanner.scan(image, pose, intrinsics)
             assert np.isfinite(result.ranges).any(), 'the benchmark scene must hold obstacles'
             cells.append(time_per_frame_ms(lambda bgr: scanner.scan(bgr, pose, intrinsics),
