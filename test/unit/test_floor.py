@@ -228,3 +228,44 @@ def test_an_obstacle_filling_the_reference_area_does_not_move_the_white_balance(
         assert np.abs(classifier.white_balance.shift_log).max() < 0.01
         assert mask[:bottom - 1].all()
         assert not mask[bottom + 2:].any()
+
+
+def test_a_wall_with_one_tiles_hue_and_the_others_brightness_is_an_obstacle():
+    """On a floor of a bright tan tile and a mid-grey one, a tan wall as dark as the grey tile
+    has a common hue and a common brightness: only the pair of them is new to the floor."""
+    tan, grey, wall = (150, 200, 235), (150, 150, 150), (95, 125, 150)
+    joint = FloorClassifier(FloorSettings(min_joint_fraction=0.002))
+    apart = FloorClassifier(FloorSettings(min_joint_fraction=0.0))
+    for step in range(10):
+        for classifier in (joint, apart):
+            classifier.classify(_checker(tan, grey, offset_px=4 * step, seed=step))
+    image = with_box(_checker(tan, grey, offset_px=40, seed=11), wall)
+    recall, false_rate = box_recall_and_false_rate(joint.classify(image))
+    assert recall > 0.98 and false_rate < 0.002
+    assert box_recall_and_false_rate(apart.classify(image))[0] < 0.1
+
+
+def test_the_lens_fall_off_is_undone_before_a_dark_box_of_the_floors_hue_is_judged():
+    """A tan floor seen through a 40 % fall-off teaches the model every brightness down to 60 %
+    of its own; a tan box at 65 % of the floor's brightness passes as floor unless the fall-off
+    is estimated and undone."""
+    columns, rows = np.meshgrid(np.arange(WIDTH) + 0.5 - WIDTH / 2.0,
+                                np.arange(HEIGHT) + 0.5 - HEIGHT / 2.0)
+    gain = 1.0 - 0.4 * (columns ** 2 + rows ** 2) / ((WIDTH ** 2 + HEIGHT ** 2) / 4.0)
+
+    def seen(image):
+        return np.clip(image * gain[:, :, None] + 0.5, 0, 255).astype(np.uint8)
+
+    tan = (150, 200, 235)
+    corrected = FloorClassifier(FloorSettings(max_vignetting=0.7))
+    plain = FloorClassifier(FloorSettings(max_vignetting=0.0))
+    for step in range(40):
+        for classifier in (corrected, plain):
+            classifier.classify(seen(floor_image(tan, seed=step).astype(float)))
+    box = tuple(int(0.65 * channel) for channel in tan)
+    image = with_box(floor_image(tan, seed=50), box).astype(float)
+    image = seen(image)
+    image[BOX[1]:BOX[3], BOX[0]:BOX[2]] = box
+    recall, false_rate = box_recall_and_false_rate(corrected.classify(image))
+    assert recall > 0.98 and false_rate < 0.002
+    assert box_recall_and_false_rate(plain.classify(image))[0] < 0.1

@@ -2,20 +2,28 @@
 
 The adaptive model follows Ulrich & Nourbakhsh 2000 ("Appearance-Based Obstacle Detection with
 Monocular Color Vision"): a reference trapezoid at the bottom of the image, just in front of the
-robot, is assumed to be floor; its pixels fill a colour histogram (hue, or "grey" for pixels
-too pale or dark to have a hue) and an intensity histogram. A pixel whose colour or intensity
-bin is rare in the model is an obstacle, whatever the floor's colour, so light obstacles on a
-dark floor are found as well as dark ones on a light floor, and a textured floor, whose
-histograms are wide, is tolerated. The model adapts over frames with the reference pixels it
-classifies as floor; when too much of the reference area looks like an obstacle (something
-stands right in front of the robot) the frame does not update the model at all. An obstacle
-is therefore never learned as floor, and a floor colour never seen in the reference area
-stays an obstacle.
+robot, is assumed to be floor; its pixels fill a histogram of (colour, intensity), colour being
+a hue bin or "grey" for pixels too pale or dark to have a hue. A pixel whose colour or intensity
+is rare on the floor is an obstacle, whatever the floor's colour, so light obstacles on a dark
+floor are found as well as dark ones on a light floor, and a textured floor, whose histograms
+are wide, is tolerated. The paper judges colour and intensity apart; on a floor of two tiles a
+wall with the hue of one and the brightness of the other then passes as floor, so with
+``~min_joint_fraction`` a pixel is also an obstacle when the floor holds too little near its
+pair of them (neighbouring bins summed: the pair is sparser than either alone). The model
+adapts over frames with the reference pixels it classifies as floor; when too much of the
+reference area looks like an obstacle (something stands right in front of the robot) the frame
+does not update the model at all. An obstacle is therefore never learned as floor, and a floor
+colour never seen in the reference area stays an obstacle.
 
 The baseline, ``dark``, is the tutorial's: every pixel darker than a grey level is an obstacle.
 Both remove speckles and keep the obstacle regions above a minimum area whose outline is an
 edge: a region whose outline (away from the image border) changes colour only gradually is
 shading of the floor (lens vignetting, light falling off, a soft shadow), not an object.
+
+A lens darkens the image corners: the reference area reaches into them, so the model would
+learn every brightness down to the corners' and take a darker wall of the floor's hue for
+floor. With ``~max_vignetting`` the fall-off is estimated from the images themselves
+(:mod:`can_seeker.vision.vignetting`) and undone before anything else.
 
 A camera's white balance drifts: every channel's gain wanders, so a pale floor tile's
 saturation crosses the line at which it has a hue within seconds, and the whole tile becomes an
@@ -34,6 +42,7 @@ import cv2
 import numpy as np
 
 from can_seeker.params import Param
+from can_seeker.vision.vignetting import VignettingEstimate
 from can_seeker.vision.white_balance import WhiteBalanceLock
 
 FLOOR_MODELS = ('adaptive', 'dark')
@@ -50,6 +59,12 @@ CHROMA_VALUE_MIN = 40
 BIN_TOLERANCE = 1
 """A pixel is floor-like when its bin or a neighbour (hue wraps around) is common in the model:
 tolerates shading across the floor."""
+JOINT_HUE_TOLERANCE = 1
+JOINT_VALUE_TOLERANCE = 2
+"""The joint test sums the model's mass over this many colour bins either side (hue wraps
+around; grey has no neighbours) and intensity bins either side of a pixel's (colour,
+intensity) bin: +-16 grey levels tolerate the exposure's walk and the light's fall-off."""
+JOINT_BINS = (GREY_BIN + 1) * VALUE_BINS
 
 FLOOR_PARAMS = (
     Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
@@ -72,6 +87,14 @@ FLOOR_PARAMS = (
           'reference area\'s colours back on the floor model\'s, undone on the whole image '
           'before classifying; 0 = off (for a camera whose white balance drifts, e.g. 0.3)',
           0.0, 1.0),
+    Param('min_joint_fraction', 0.002, 'a pixel whose (colour, intensity) bin and its '
+          'neighbours (a colour bin and 16 grey levels either side) hold less than this fraction '
+          'of the floor model is an obstacle, even when its colour and its intensity are each '
+          'common on the floor: on a floor of two tiles, a wall with the hue of one and the '
+          'brightness of the other (1; 0 = off)', 0.0, 1.0),
+    Param('max_vignetting', 0.7, 'largest lens fall-off the floor model estimates from the '
+          'images and undoes before classifying: brightness lost in the image corners (1, '
+          'fraction; an estimate under 0.05 leaves the image alone; 0 = off)', 0.0, 0.9),
     Param('min_edge_contrast', 1.5, 'obstacle regions whose outline (away from the image '
           'border) has a mean colour gradient below this are floor shading (vignetting, light '
           'fall-off), not objects (grey levels per pixel, after a 5x5 Gaussian blur; 0 = keep '
@@ -91,6 +114,8 @@ class FloorSettings:
     suspect_fraction: float = 0.3
     min_obstacle_area: float = 0.001
     max_colour_shift: float = 0.0
+    min_joint_fraction: float = 0.002
+    max_vignetting: float = 0.7
     min_edge_contrast: float = 1.5
 
     @classmethod
@@ -132,6 +157,22 @@ def _tolerant(common: np.ndarray, wrap: bool) -> np.ndarray:
     return widened
 
 
+def _joint_neighbourhood(model: np.ndarray) -> np.ndarray:
+    """(GREY_BIN + 1) x VALUE_BINS: the joint model's mass within JOINT_HUE_TOLERANCE colour
+    bins (hue rows only, wrapping around) and JOINT_VALUE_TOLERANCE intensity bins of each
+    bin."""
+    padded = np.pad(model, ((0, 0), (JOINT_VALUE_TOLERANCE, JOINT_VALUE_TOLERANCE)))
+    cumulative = np.cumsum(padded, axis=1)
+    cumulative = np.pad(cumulative, ((0, 0), (1, 0)))
+    width = 2 * JOINT_VALUE_TOLERANCE + 1
+    along_value = cumulative[:, width:] - cumulative[:, :-width]
+    summed = along_value.copy()
+    hues = along_value[:HUE_BINS]
+    for shift in range(1, JOINT_HUE_TOLERANCE + 1):
+        summed[:HUE_BINS] += np.roll(hues, shift, axis=0) + np.roll(hues, -shift, axis=0)
+    return summed
+
+
 class FloorClassifier:
     """Per-frame floor / obstacle classification of BGR images (keeps the floor model).
 
@@ -142,16 +183,16 @@ class FloorClassifier:
     def __init__(self, settings: Optional[FloorSettings] = None):
         self.settings = settings if settings is not None else FloorSettings()
         self.white_balance = WhiteBalanceLock(self.settings.max_colour_shift)
+        self.vignetting = VignettingEstimate(self.settings.max_vignetting)
         self._shape = None
-        self.colour_model = None
-        self.value_model = None
+        self.model = None
         self.model_updated = False
 
     def reset(self):
         """Forget the floor model: the next frame's reference area is learned afresh."""
-        self.colour_model = None
-        self.value_model = None
+        self.model = None
         self.white_balance.reset()
+        self.vignetting.reset()
 
     def _prepare(self, shape):
         if shape == self._shape:
@@ -185,63 +226,70 @@ class FloorClassifier:
             raw[ignore > 0] = 0
         return self._obstacle_regions(raw, bgr)
 
-    def _features(self, bgr):
-        """(colour bin, intensity bin) images of ``bgr``."""
+    @staticmethod
+    def _features(bgr):
+        """Image of (colour bin, intensity bin) indices, colour * VALUE_BINS + intensity
+        (uint16), of ``bgr``."""
         hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
         hue, saturation, value = cv2.split(hsv)
         colour = cv2.LUT(hue, HUE_BIN_LUT)
         grey = (saturation < CHROMA_SATURATION_MIN) | (value < CHROMA_VALUE_MIN)
         colour[grey] = GREY_BIN
-        return colour, cv2.LUT(value, VALUE_BIN_LUT)
+        return colour.astype(np.uint16) * VALUE_BINS + cv2.LUT(value, VALUE_BIN_LUT)
 
     @staticmethod
-    def _histogram(bins, where, length):
-        counts = np.bincount(bins[where], minlength=length).astype(np.float64)
+    def _histogram(features, where):
+        """The (GREY_BIN + 1) x VALUE_BINS histogram of the features where ``where``, normalised
+        (None when there are none)."""
+        counts = np.bincount(features[where], minlength=JOINT_BINS).astype(np.float64)
         total = counts.sum()
-        return counts / total if total > 0 else None
+        return (counts / total).reshape(GREY_BIN + 1, VALUE_BINS) if total > 0 else None
 
     def _appearance_obstacles(self, bgr, reference):
         """(image with the white-balance drift undone, raw obstacle pixels); updates the
-        models. The drift is measured on the reference pixels that are floor with the last
-        frame's correction: an obstacle in front of the robot never moves it."""
-        if self.colour_model is None:
+        models. The lens's fall-off is undone first; the drift is measured on the reference
+        pixels that are floor with the last frame's correction: an obstacle in front of the
+        robot never moves it."""
+        self.vignetting.observe(bgr)
+        bgr = self.vignetting.correct(bgr)
+        if self.model is None:
             self.white_balance.track(bgr[reference])
-            colour, value = self._features(bgr)
-            self.colour_model = self._histogram(colour, reference, GREY_BIN + 1)
-            self.value_model = self._histogram(value, reference, VALUE_BINS)
-            if self.colour_model is None or self.value_model is None:
+            features = self._features(bgr)
+            self.model = self._histogram(features, reference)
+            if self.model is None:
                 self.reset()
                 self.model_updated = False
                 return bgr, np.zeros(bgr.shape[:2], np.uint8)
-            raw = self._obstacle_pixels(colour, value)
+            raw = self._obstacle_pixels(features)
         else:
             if self.white_balance.max_shift_log > 0.0:
                 top = int(self.reference_corners[:, 1].min())
-                colour, value = self._features(self.white_balance.correct(bgr[top:]))
-                floor_before = reference[top:] & (self._obstacle_pixels(colour, value) == 0)
+                features = self._features(self.white_balance.correct(bgr[top:]))
+                floor_before = reference[top:] & (self._obstacle_pixels(features) == 0)
                 self.white_balance.track(bgr[top:][floor_before])
                 bgr = self.white_balance.correct(bgr)
-            colour, value = self._features(bgr)
-            raw = self._obstacle_pixels(colour, value)
-        floor = self._update_model(colour, value, raw, reference)
+            features = self._features(bgr)
+            raw = self._obstacle_pixels(features)
+        floor = self._update_model(features, raw, reference)
         if floor is not None:
             self.white_balance.learn(bgr[floor], self.settings.adapt_rate)
         return bgr, raw
 
-    def _obstacle_pixels(self, colour, value):
-        """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model."""
+    def _obstacle_pixels(self, features):
+        """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model, or
+        (with ~min_joint_fraction) the pair of them."""
         threshold = self.settings.min_bin_fraction
-        colour_floor = np.zeros(256, bool)
-        colour_floor[:HUE_BINS] = _tolerant(self.colour_model[:HUE_BINS] >= threshold, True)
-        colour_floor[GREY_BIN] = self.colour_model[GREY_BIN] >= threshold
-        value_floor = np.zeros(256, bool)
-        value_floor[:VALUE_BINS] = _tolerant(self.value_model >= threshold, False)
-        raw = cv2.LUT(colour, np.where(colour_floor, 0, 255).astype(np.uint8))
-        cv2.bitwise_or(raw, cv2.LUT(value, np.where(value_floor, 0, 255).astype(np.uint8)),
-                       dst=raw)
-        return raw
+        colour_model = self.model.sum(axis=1)
+        colour_floor = np.empty(GREY_BIN + 1, bool)
+        colour_floor[:HUE_BINS] = _tolerant(colour_model[:HUE_BINS] >= threshold, True)
+        colour_floor[GREY_BIN] = colour_model[GREY_BIN] >= threshold
+        value_floor = _tolerant(self.model.sum(axis=0) >= threshold, False)
+        floor = colour_floor[:, None] & value_floor[None, :]
+        if self.settings.min_joint_fraction > 0.0:
+            floor &= _joint_neighbourhood(self.model) >= self.settings.min_joint_fraction
+        return np.where(floor.ravel(), 0, 255).astype(np.uint8)[features]
 
-    def _update_model(self, colour, value, raw, reference):
+    def _update_model(self, features, raw, reference):
         """Blend the reference area's floor pixels into the model unless the area is suspect;
         those pixels (a boolean image), or None when the model was not updated."""
         self.model_updated = False
@@ -253,10 +301,7 @@ class FloorClassifier:
         floor_count = int(np.count_nonzero(floor))
         if floor_count == 0 or 1.0 - floor_count / in_reference > self.settings.suspect_fraction:
             return None
-        colour_new = self._histogram(colour, floor, GREY_BIN + 1)
-        value_new = self._histogram(value, floor, VALUE_BINS)
-        self.colour_model = (1.0 - rate) * self.colour_model + rate * colour_new
-        self.value_model = (1.0 - rate) * self.value_model + rate * value_new
+        self.model = (1.0 - rate) * self.model + rate * self._histogram(features, floor)
         self.model_updated = True
         return floor
 
