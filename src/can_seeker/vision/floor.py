@@ -287,7 +287,7 @@ class FloorClassifier:
         floor = colour_floor[:, None] & value_floor[None, :]
         if self.settings.min_joint_fraction > 0.0:
             floor &= _joint_neighbourhood(self.model) >= self.settings.min_joint_fraction
-        return np.where(floor.ravel(), 0, 255).astype(np.uint8)[features]
+        return np.take(np.where(floor.ravel(), 0, 255).astype(np.uint8), features)
 
     def _update_model(self, features, raw, reference):
         """Blend the reference area's floor pixels into the model unless the area is suspect;
