@@ -161,11 +161,8 @@ def _joint_neighbourhood(model: np.ndarray) -> np.ndarray:
     """(GREY_BIN + 1) x VALUE_BINS: the joint model's mass within JOINT_HUE_TOLERANCE colour
     bins (hue rows only, wrapping around) and JOINT_VALUE_TOLERANCE intensity bins of each
     bin."""
-    padded = np.pad(model, ((0, 0), (JOINT_VALUE_TOLERANCE, JOINT_VALUE_TOLERANCE)))
-    cumulative = np.cumsum(padded, axis=1)
-    cumulative = np.pad(cumulative, ((0, 0), (1, 0)))
-    width = 2 * JOINT_VALUE_TOLERANCE + 1
-    along_value = cumulative[:, width:] - cumulative[:, :-width]
+    along_value = cv2.boxFilter(model, -1, (2 * JOINT_VALUE_TOLERANCE + 1, 1), normalize=False,
+                                borderType=cv2.BORDER_CONSTANT)
     summed = along_value.copy()
     hues = along_value[:HUE_BINS]
     for shift in range(1, JOINT_HUE_TOLERANCE + 1):
