@@ -194,33 +194,6 @@ def test_the_target_can_is_not_an_obstacle():
     assert navigator.free_travel_m((0.3, 0.0), (0.6, 0.0), 0.15, unknown=False) == 1.0
 
 
-def test_a_gap_narrower_than_the_planning_margin_is_still_a_way():
-    """A 0.6 m gap in a wall: too narrow for the robot's radius plus the planning margin on
-    both sides (0.63 m), wide enough for the robot. With no other way the path goes
-    through it; the safety margin still holds."""
-    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
-    navigator.pose = Pose2D(0.0, 0.0, 0.0)
-    wall = np.stack((np.full(99, 1.0), np.linspace(-4.9, 4.9, 99)), axis=1)
-    wall = wall[np.abs(wall[:, 1] - 0.3) > 0.25]
-    for _ in range(3):
-        navigator.add_scan(wall, np.ones(len(wall), bool), (0.0, 0.0), navigator.pose)
-    navigator.grid.seen[:] = True
-    path = navigator.path_to((2.0, 0.3))
-    assert path is not None
-    through = path[np.abs(path[:, 0] - 1.0) < 0.06]
-    assert len(through) and np.all(np.abs(through[:, 1] - 0.3) < 0.1)
-    wide = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
-    wide.pose = Pose2D(0.0, 0.0, 0.0)
-    open_wall = wall[np.abs(wall[:, 1] - 0.3) > 0.6]
-    for _ in range(3):
-        wide.add_scan(open_wall, np.ones(len(open_wall), bool), (0.0, 0.0), wide.pose)
-    wide.grid.seen[:] = True
-    wide_path = wide.path_to((2.0, 0.3))
-    clearance = np.min(np.abs(wide_path[np.abs(wide_path[:, 0] - 1.0) < 0.06][:, 1][:, None]
-                              - open_wall[:, 1][None, :]))
-    assert clearance >= 0.165 + 0.15 - 0.05
-
-
 def test_following_a_path_says_why_it_only_turns():
     """A robot that turns in place toward its path says why it does not drive: the path lies
     behind it, or no heading is clear; it says nothing while it drives."""

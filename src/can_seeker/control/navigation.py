@@ -243,25 +243,19 @@ class Navigator:
         return planner.inflate(occupied, (self.robot_radius_m + margin) / self.grid.resolution_m)
 
     def _plan(self, goal: Optional[Tuple[int, int]], exclude_xy, exclude_radius_m: float):
-        """(window, blocked cells, wavefront distances) from the robot's cell. The margin is a
-        preference: it is dropped when the robot already stands inside it, so it can still
-        leave, and when only a way closer to obstacles than it reaches ``goal`` (between a
-        table and a wall): the safety layer still keeps the robot its safety margin away."""
+        """(window, blocked cells, wavefront distances) from the robot's cell; the margin is
+        dropped when the robot already stands inside it, so it can still leave."""
         start = self.grid.cell_of(self.pose.x, self.pose.y)
         if start is None:
             return None
         known = self.grid.seen | self.grid.occupied()
         cells = (start,) if goal is None else (start, goal)
         window = planner.planning_window(known, cells, PLAN_MARGIN_CELLS)
-        local_start = window.local(start)
         for margin in (self.plan_margin_m, 0.0):
             blocked = window.crop(self.blocked_cells(exclude_xy, exclude_radius_m, margin))
-            if blocked[local_start] and margin > 0.0:
-                continue
-            distance = planner.wavefront(~blocked, local_start)
-            if goal is None or np.isfinite(distance[window.local(goal)]):
+            if not blocked[window.local(start)]:
                 break
-        return window, blocked, distance
+        return window, blocked, planner.wavefront(~blocked, window.local(start))
 
     def path_to(self, goal_xy: Sequence[float], exclude_xy=None,
                 exclude_radius_m: float = 0.0) -> Optional[np.ndarray]:
