@@ -1,9 +1,11 @@
 """Floor / obstacle classification on synthetic images: light and dark floors, texture,
 adaptation, and the tutorial's dark-threshold baseline."""
+import cv2
 import numpy as np
 import pytest
 
-from can_seeker.vision.floor import FloorClassifier, FloorSettings, reference_trapezoid
+from can_seeker.vision.floor import (FloorClassifier, FloorSettings, floor_blends,
+                                     reference_trapezoid)
 
 WIDTH, HEIGHT = 320, 240
 BOX = (120, 60, 200, 140)
@@ -269,3 +271,58 @@ def test_the_lens_fall_off_is_undone_before_a_dark_box_of_the_floors_hue_is_judg
     recall, false_rate = box_recall_and_false_rate(corrected.classify(image))
     assert recall > 0.98 and false_rate < 0.002
     assert box_recall_and_false_rate(plain.classify(image))[0] < 0.1
+
+
+def _blurred_tiles(first_bgr, second_bgr, tile_px=160, seed=0, offset_px=0, sigma=1.0,
+                   blur_px=7):
+    """Large checker tiles whose edges are blurred over ``blur_px`` - 1 px, with noise."""
+    rows, columns = np.mgrid[0:HEIGHT, 0:WIDTH]
+    second = ((columns + offset_px) // tile_px + rows // tile_px) % 2 == 1
+    image = np.where(second[:, :, None], np.array(second_bgr, float),
+                     np.array(first_bgr, float))
+    image = cv2.blur(image, (blur_px, blur_px))
+    image += np.random.default_rng(seed).normal(0.0, sigma, image.shape)
+    return np.clip(image, 0, 255).astype(np.uint8)
+
+
+TEAL_LIGHT, TEAL_DARK = (184, 180, 150), (115, 114, 88)
+
+
+@pytest.mark.parametrize('sigma', [1.0, 6.0])
+def test_the_blurred_edge_between_two_floor_tiles_is_floor(sigma):
+    """Where a light and a dark tile meet, the renderer's filtering or a turn's motion blur
+    blends them over a few pixels into colours neither tile has; the blend is floor, not a line
+    of obstacle along every tile edge (a clean camera, and one as noisy as the harsh
+    preset's). The model learned both tiles from frames whose edges were sharp."""
+    classifier = FloorClassifier()
+    for step in range(10):
+        classifier.classify(_blurred_tiles(TEAL_LIGHT, TEAL_DARK, offset_px=6 * step,
+                                           seed=step, sigma=sigma, blur_px=1))
+    mask = classifier.classify(_blurred_tiles(TEAL_LIGHT, TEAL_DARK, offset_px=30, seed=20,
+                                              sigma=sigma))
+    assert (mask > 0).mean() < 0.0005
+
+
+@pytest.mark.parametrize('x0', [50, 77])
+def test_a_thin_pole_on_a_tile_or_across_a_tile_edge_stays_an_obstacle(x0):
+    """A 5 px pole of its own colour is no blend of the floor on its sides, on one tile
+    (x0 50) or on the edge between a light and a dark tile (x0 77)."""
+    classifier = FloorClassifier()
+    for step in range(10):
+        classifier.classify(_blurred_tiles(TEAL_LIGHT, TEAL_DARK, seed=step))
+    pole = (x0, 20, x0 + 5, 150)
+    image = with_box(_blurred_tiles(TEAL_LIGHT, TEAL_DARK, seed=20), (60, 40, 90), pole)
+    recall, false_rate = box_recall_and_false_rate(classifier.classify(image), pole)
+    assert recall > 0.9 and false_rate < 0.0005
+
+
+def test_a_blend_is_a_colour_on_the_line_between_the_floor_on_its_two_sides():
+    floor = np.ones((5, 9), bool)
+    floor[:, 3:6] = False
+    image = np.zeros((5, 9, 3), np.uint8)
+    image[:, :4] = (200, 100, 50)
+    image[:, 4] = (150, 100, 75)
+    image[:, 5:] = (100, 100, 100)
+    assert floor_blends(image, floor)[2, 4]
+    image[:, 4] = (40, 200, 200)
+    assert not floor_blends(image, floor)[2, 4]
