@@ -88,6 +88,8 @@ class CanStopperNode:
         self.view_s = -float('inf')
         self.odom_frame = params.odom_frame
         self.camera_pose_logged = set()
+        self.intrinsics = None
+        self.logged_view = None
         self.published_state = None
         self.publish_state()
         self.missing_input_log = KindThrottle(MISSING_INPUT_LOG_PERIOD_S)
@@ -152,24 +154,30 @@ class CanStopperNode:
         return self.sensor_poses.pose(frame_id, rospy.get_time())
 
     def on_camera_info(self, info):
-        """The camera's floor footprint (for the coverage grid), from every camera_info: it
-        follows the mount that TF gives."""
+        """The camera's intrinsics, for the floor footprint of each frame (:meth:`view_of`)."""
         self.monitors['camera_info'].received(rospy.get_time(), info.header.stamp.to_sec())
-        pose = self.sensor_pose(info.header.frame_id)
-        if pose is None:
-            return
         try:
             intrinsics = intrinsics_from_k(info.width, info.height, info.K)
         except ValueError as error:
             rospy.logerr_throttle(5.0, 'can_stopper: bad camera_info: %s' % error)
             return
-        view = camera_view(pose, intrinsics, self.params.coverage_range, self.params.can_height)
-        if view == self.controller.camera_view:
-            return
-        rospy.loginfo('can_stopper: camera covers %.2f-%.2f m, +-%.1f deg'
-                      % (view.near_m, view.far_m, math.degrees(view.half_fov_rad)))
-        with self.lock:
-            self.controller.set_camera_view(view)
+        self.intrinsics = intrinsics
+
+    def view_of(self, frame_id):
+        """The floor footprint (for the coverage grid) of the camera frame ``frame_id`` of a
+        detection: from the mount that TF gives when the detection comes, so it follows a mount
+        that changes, and a frame's coverage never depends on when its camera_info arrived;
+        None without intrinsics or a pose (the last view stays)."""
+        pose = self.sensor_pose(frame_id)
+        if pose is None or self.intrinsics is None:
+            return None
+        view = camera_view(pose, self.intrinsics, self.params.coverage_range,
+                           self.params.can_height)
+        if view != self.logged_view:
+            self.logged_view = view
+            rospy.loginfo('can_stopper: camera covers %.2f-%.2f m, +-%.1f deg'
+                          % (view.near_m, view.far_m, math.degrees(view.half_fov_rad)))
+        return view
 
     def on_odom(self, odom):
         self.monitors['odometry'].received(rospy.get_time(), odom.header.stamp.to_sec())
@@ -237,12 +245,13 @@ class CanStopperNode:
         sighting = sighting_from_detection(detection.found, detection.range, detection.bearing,
                                            camera, self.params.robot_radius,
                                            self.params.can_radius, detection.confidence)
+        view = self.view_of(detection.header.frame_id)
         stamp_s = detection.header.stamp.to_sec()
         with self.lock:
             if not self.params.lockstep:
-                self.controller.observe(sighting, rospy.get_time(), stamp_s)
+                self.observe(sighting, view, rospy.get_time(), stamp_s)
                 return
-            self.frame_inputs.detection(sighting, stamp_s)
+            self.frame_inputs.detection((sighting, view), stamp_s)
             self.answer_frames()
         self.publish_state()
 
@@ -268,9 +277,16 @@ class CanStopperNode:
                 self.guard.run(lambda: self.answer_frame(value, stamp_s, stamp),
                                lambda: self.publish_command(ZERO, stamp), stamp_s)
 
-    def answer_frame(self, sighting, stamp_s, stamp):
-        """Lockstep: the command for the frame of this detection, stamped like its image."""
-        self.controller.observe(sighting, stamp_s, stamp_s)
+    def observe(self, sighting, view, now_s, stamp_s):
+        """A detection (under the lock): its camera's view, then its sighting."""
+        if view is not None:
+            self.controller.set_camera_view(view)
+        self.controller.observe(sighting, now_s, stamp_s)
+
+    def answer_frame(self, detection, stamp_s, stamp):
+        """Lockstep: the command for the frame of this detection ((sighting, view)), stamped
+        like its image."""
+        self.observe(*detection, stamp_s, stamp_s)
         self.publish_command(self.controller.command(stamp_s), stamp)
 
     def publish_command(self, command, stamp):
