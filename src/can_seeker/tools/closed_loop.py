@@ -13,6 +13,7 @@ own estimate, which drifts with ``realism``), ``sim/can_pose``, ``sim/contact`` 
 from its seed (``sim/new_world``). Topic and service names are relative: a monitor in the
 robot's namespace (``<group ns="robot1">``) watches that robot.
 """
+import math
 import os
 import signal
 import socket
@@ -43,6 +44,8 @@ SERVICES = ('sim/reset_trial', 'sim/place_can', 'sim/new_world', 'sim/pause_phys
             'can_stopper/reset', 'obstacle_scan/reset')
 POLL_S = 0.01
 SETTLE_S = 0.5
+TRUTH_WAIT_S = 2.0
+"""How long a trial's judge waits for the true poses up to the trial's end (wall s)."""
 """Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
 LAUNCH_GUARD = ('while kill -0 "$1" 2>/dev/null; do sleep 1; done; '
                 'kill -INT -"$2" 2>/dev/null && sleep 20 && kill -KILL -"$2" 2>/dev/null')
@@ -199,11 +202,9 @@ class TruthMonitor:
         """Forget the previous trial: record what is stamped after sim time ``now_s``."""
         with self.lock:
             self.start_s = now_s
-            self.path = []
             self.stamped_poses = []
-            self.pose = None
             self.can_xy = None
-            self.contact = False
+            self.contact_s = None
             self.contact_objects = set()
             self.first_contact = None
             self.state = None
@@ -214,12 +215,11 @@ class TruthMonitor:
         if message.header.stamp.to_sec() <= self.start_s:
             return
         position = message.pose.pose.position
+        orientation = message.pose.pose.orientation
+        pose = (position.x, position.y, yaw_from_quaternion(
+            orientation.x, orientation.y, orientation.z, orientation.w))
         with self.lock:
-            orientation = message.pose.pose.orientation
-            self.pose = (position.x, position.y, yaw_from_quaternion(
-                orientation.x, orientation.y, orientation.z, orientation.w))
-            self.path.append((position.x, position.y))
-            self.stamped_poses.append((message.header.stamp.to_sec(),) + self.pose)
+            self.stamped_poses.append((message.header.stamp.to_sec(),) + pose)
 
     def _on_can_pose(self, message):
         if message.header.stamp.to_sec() > self.start_s:
@@ -227,9 +227,11 @@ class TruthMonitor:
                 self.can_xy = (message.pose.position.x, message.pose.position.y)
 
     def _on_contact(self, message):
-        if message.data and rospy.get_time() > self.start_s:
+        now_s = rospy.get_time()
+        if message.data and now_s > self.start_s:
             with self.lock:
-                self.contact = True
+                if self.contact_s is None:
+                    self.contact_s = now_s
 
     def _on_contacts(self, message):
         stamp_s = message.header.stamp.to_sec()
@@ -256,10 +258,26 @@ class TruthMonitor:
             pose = pose_at(self.stamped_poses, stamp_s) or (float('nan'),) * 3
             return Contact(stamp_s - self.start_s, pose[0], pose[1], pose[2], objects)
 
-    def snapshot(self):
-        """(pose, can_xy, contact, path copy, stopped_s) under the lock."""
+    def wait_for_truth(self, end_s, timeout_s=TRUTH_WAIT_S):
+        """Wait (up to ``timeout_s`` of wall time) until a true pose stamped at or after sim
+        time ``end_s`` has come: the poses up to ``end_s`` are all in."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            with self.lock:
+                if self.stamped_poses and self.stamped_poses[-1][0] >= end_s:
+                    return
+            time.sleep(POLL_S)
+
+    def snapshot(self, end_s=math.inf):
+        """(pose, can_xy, contact, path, stopped_s) of the trial up to sim time ``end_s`` (a
+        trial ends at a sim time of its own, not whenever its end is noticed): the true pose
+        then, whether anything was touched by then and the path so far."""
         with self.lock:
-            return self.pose, self.can_xy, self.contact, list(self.path), self.stopped_s
+            poses = [pose for pose in self.stamped_poses if pose[0] <= end_s]
+            pose = poses[-1][1:4] if poses else None
+            contact = self.contact_s is not None and self.contact_s <= end_s
+            return (pose, self.can_xy, contact, [pose[1:3] for pose in poses],
+                    self.stopped_s)
 
 
 class TrialRunner:
@@ -326,10 +344,13 @@ class TrialRunner:
         start_wall = time.monotonic()
         start_s = self.start(can_xy)
         self.wait_sim(self.criteria.time_limit_s, lambda: self.monitor.stopped_s is not None)
+        end_s = start_s + self.criteria.time_limit_s
         if self.monitor.stopped_s is not None:
+            end_s = self.monitor.stopped_s + SETTLE_S
             self.wait_sim(SETTLE_S)
         self.pause()
-        pose, final_can, contact, path, stopped_s = self.monitor.snapshot()
+        self.monitor.wait_for_truth(end_s)
+        pose, final_can, contact, path, stopped_s = self.monitor.snapshot(end_s)
         if pose is None or final_can is None:
             raise RuntimeError('no ground truth from the simulator (%s, %s)'
                                % (rospy.resolve_name(TRUE_POSE_TOPIC),
@@ -338,6 +359,6 @@ class TrialRunner:
         with self.monitor.lock:
             contact_objects = sorted(self.monitor.contact_objects)
         return judge(index, can_xy, time_to_stop, pose[:2], pose[2], final_can, contact,
-                     path_length(path), rospy.get_time() - start_s,
+                     path_length(path), end_s - start_s,
                      time.monotonic() - start_wall, self.criteria, contact_objects,
                      can_visible_from_start, self.monitor.contact_record())
