@@ -115,22 +115,6 @@ def test_no_frontier_when_everything_reachable_was_seen():
     assert planner.frontier_goal(distance, seen, blocked, (10, 10), 0.0, 0.1, 0.3, 6) is None
 
 
-def test_frontier_counts_unseen_floor_along_a_wall_where_the_robot_cannot_go():
-    """A can may stand in a wall's margin, out of the robot's reach but in the camera's: a thin
-    unseen strip of reachable floor before an unseen margin is worth a look."""
-    occupied = np.zeros((30, 30), bool)
-    occupied[29, :] = True
-    blocked = planner.inflate(occupied, 3.0)
-    seen = np.zeros_like(occupied)
-    seen[:25, :] = True
-    assert not blocked[25, 15] and blocked[26, 15]
-    distance = planner.wavefront(~blocked, (15, 15))
-    assert planner.frontier_goal(distance, seen, blocked, (15, 15), 0.0, 0.1, 0.3, 6) is None
-    goal = planner.frontier_goal(distance, seen, blocked, (15, 15), 0.0, 0.1, 0.3, 6,
-                                 occupied=occupied)
-    assert goal is not None and goal[0] == 25
-
-
 # Safety --------------------------------------------------------------------------------------
 
 def test_free_travel_straight_and_on_an_arc():

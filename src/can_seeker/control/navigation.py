@@ -285,8 +285,7 @@ class Navigator:
         goal = planner.frontier_goal(distance, window.crop(self.grid.seen), blocked, start,
                                      self.pose.yaw, self.grid.resolution_m,
                                      turn_cost_m_per_rad, min_unseen_cells,
-                                     2.0 * GOAL_REACHED_M / self.grid.resolution_m,
-                                     window.crop(self.grid.occupied()))
+                                     2.0 * GOAL_REACHED_M / self.grid.resolution_m)
         return None if goal is None else self.grid.centre_of(*window.grid(goal))
 
     def is_seen(self, xy: Sequence[float]) -> bool:

@@ -107,28 +107,22 @@ def planning_window(known: np.ndarray, cells: Tuple[Tuple[int, int], ...],
 def frontier_goal(distance: np.ndarray, seen: np.ndarray, blocked: np.ndarray,
                   robot_cell: Tuple[int, int], heading_rad: float, resolution_m: float,
                   turn_cost_m_per_rad: float, min_unseen_cells: int,
-                  min_distance_cells: float = 0.0,
-                  occupied: Optional[np.ndarray] = None) -> Optional[Tuple[int, int]]:
+                  min_distance_cells: float = 0.0) -> Optional[Tuple[int, int]]:
     """The reachable, unseen, unblocked cell next to seen floor with the lowest cost: path
     length (m) plus ``turn_cost_m_per_rad`` times the turn toward it from ``heading_rad``.
 
-    Only cells with at least ``min_unseen_cells`` cells of unseen floor in their 5 x 5
+    Only cells with at least ``min_unseen_cells`` unseen free cells in their 5 x 5
     neighbourhood count, so a lone unseen cell between seen ones is no reason to drive, and
     only those more than ``min_distance_cells`` of path away (the robot is already there).
-    Unseen floor is every unseen cell that is not ``occupied`` (given: obstacles themselves,
-    not grown), so a strip along a wall counts too: the robot's centre may not go there, but a
-    can may stand there and the camera can see it; without ``occupied``, the unblocked
-    unseen cells only.
     """
     unseen_free = ~seen & ~blocked
-    unseen_floor = unseen_free if occupied is None else ~seen & ~occupied
     next_to_seen = np.zeros_like(seen)
     for dx, dy, _ in NEIGHBOURS:
         next_to_seen |= shifted(seen & ~blocked, dx, dy, False)
     unseen_around = np.zeros(seen.shape, int)
     for dx in range(-2, 3):
         for dy in range(-2, 3):
-            unseen_around += shifted(unseen_floor, dx, dy, False)
+            unseen_around += shifted(unseen_free, dx, dy, False)
     candidates = (unseen_free & next_to_seen & np.isfinite(distance)
                   & (distance > min_distance_cells)
                   & (unseen_around >= min_unseen_cells))
