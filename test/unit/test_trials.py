@@ -5,7 +5,7 @@ import pytest
 
 from can_seeker.camera_geometry import yaw_from_quaternion
 from can_seeker.evaluation.trials import Contact, Criteria, judge, path_length, pose_at, \
-    summarise, summary_table, true_gap_and_bearing
+    summarise, summary_table, true_gap_and_bearing, until
 
 CRITERIA = Criteria()
 TARGET_CENTRE_M = 0.25 + 0.165 + 0.033
@@ -104,6 +104,14 @@ def test_contacts_by_object_and_hidden_cans_are_summarised():
     table = summary_table(summary)
     assert '| trials with contact (any object) | 1 (obstacle_2 in 1, wall_front in 1) |' in table
     assert '| can not visible from the start | 2 (1 of them succeeded) |' in table
+
+
+def test_a_trial_is_judged_on_the_poses_up_to_its_end():
+    poses = [(10.0 + 0.1 * i, 0.01 * i, 0.0, 0.1) for i in range(10)]
+    final, path = until(poses, 10.55)
+    assert final == (0.05, 0.0, 0.1)
+    assert path == [(0.01 * i, 0.0) for i in range(6)]
+    assert until(poses, 9.0) == (None, [])
 
 
 def test_pose_at_takes_the_last_pose_at_or_before_the_stamp():

@@ -56,6 +56,16 @@ def path_length(points: Iterable[Sequence[float]]) -> float:
     return length
 
 
+def until(stamped_poses: Sequence[Sequence[float]], end_s: float
+          ) -> Tuple[Optional[Tuple[float, ...]], List[Tuple[float, float]]]:
+    """(the last (x, y, yaw) stamped at or before ``end_s``, or None; the (x, y) path up to
+    it) of ``stamped_poses`` ((stamp s, x, y, yaw) in stamp order): a trial judged at the sim
+    time it ends, whatever came in after that."""
+    poses = [pose for pose in stamped_poses if pose[0] <= end_s]
+    final = tuple(float(value) for value in poses[-1][1:4]) if poses else None
+    return final, [(float(pose[1]), float(pose[2])) for pose in poses]
+
+
 def pose_at(stamped_poses: Sequence[Sequence[float]], stamp_s: float) -> Optional[Tuple[float, ...]]:
     """The (x, y, yaw) of the last of ``stamped_poses`` ((stamp s, x, y, yaw) in stamp order)
     stamped at or before ``stamp_s`` (the first one when all are later; None when empty)."""

@@ -33,7 +33,7 @@ from std_srvs.srv import Empty
 from can_seeker.msg import Contacts
 from can_seeker.srv import NewWorld, PlaceCan, ResetTrial
 from can_seeker.camera_geometry import yaw_from_quaternion
-from can_seeker.evaluation.trials import Contact, judge, path_length, pose_at
+from can_seeker.evaluation.trials import Contact, judge, path_length, pose_at, until
 
 STATE_TOPIC = 'can_stopper/state'
 TRUE_POSE_TOPIC = 'sim/base_pose_ground_truth'
@@ -273,11 +273,9 @@ class TruthMonitor:
         trial ends at a sim time of its own, not whenever its end is noticed): the true pose
         then, whether anything was touched by then and the path so far."""
         with self.lock:
-            poses = [pose for pose in self.stamped_poses if pose[0] <= end_s]
-            pose = poses[-1][1:4] if poses else None
+            pose, path = until(self.stamped_poses, end_s)
             contact = self.contact_s is not None and self.contact_s <= end_s
-            return (pose, self.can_xy, contact, [pose[1:3] for pose in poses],
-                    self.stopped_s)
+            return pose, self.can_xy, contact, path, self.stopped_s
 
 
 class TrialRunner:
