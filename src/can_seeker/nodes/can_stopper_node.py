@@ -163,12 +163,11 @@ class CanStopperNode:
             return
         self.intrinsics = intrinsics
 
-    def view_of(self, frame_id):
-        """The floor footprint (for the coverage grid) of the camera frame ``frame_id`` of a
-        detection: from the mount that TF gives when the detection comes, so it follows a mount
-        that changes, and a frame's coverage never depends on when its camera_info arrived;
-        None without intrinsics or a pose (the last view stays)."""
-        pose = self.sensor_pose(frame_id)
+    def view_of(self, pose):
+        """The floor footprint (for the coverage grid) of a detection's camera at ``pose`` (its
+        mount in TF when the detection came, so it follows a mount that changes, and a frame's
+        coverage never depends on when its camera_info arrived); None without intrinsics or a
+        pose (the last view stays)."""
         if pose is None or self.intrinsics is None:
             return None
         view = camera_view(pose, self.intrinsics, self.params.coverage_range,
@@ -221,9 +220,9 @@ class CanStopperNode:
                                    scan.header.stamp.to_sec(), scan.scan_time)
             self.answer_frames()
 
-    def camera_pose(self, frame_id):
-        """The camera's floor pose in ~base_frame from TF, else from ~camera_x."""
-        pose = self.sensor_pose(frame_id)
+    def camera_pose(self, frame_id, pose):
+        """The floor pose of camera ``frame_id`` at ``pose`` (from TF) in ~base_frame, else
+        from ~camera_x."""
         if pose is None:
             return CameraFloorPose(self.params.camera_x, 0.0, 0.0)
         floor_pose = camera_floor_pose(pose)
@@ -241,11 +240,12 @@ class CanStopperNode:
             rospy.logerr_throttle(2.0, 'can_stopper: ignoring the can in this detection: %s'
                                   % problem)
         # The controller decides from the confidence whether the red object is the can.
-        camera = self.camera_pose(detection.header.frame_id) if detection.found else None
+        pose = self.sensor_pose(detection.header.frame_id)
+        camera = self.camera_pose(detection.header.frame_id, pose) if detection.found else None
         sighting = sighting_from_detection(detection.found, detection.range, detection.bearing,
                                            camera, self.params.robot_radius,
                                            self.params.can_radius, detection.confidence)
-        view = self.view_of(detection.header.frame_id)
+        view = self.view_of(pose)
         stamp_s = detection.header.stamp.to_sec()
         with self.lock:
             if not self.params.lockstep:
