@@ -494,6 +494,29 @@ def test_unknown_floor_no_turn_can_observe_is_taken_for_floor_after_the_wait():
                                                                          unknown=False)
 
 
+def test_unknown_floor_beside_a_remembered_obstacle_is_not_taken_for_floor_by_waiting():
+    """A camera saw one face of an obstacle, which now stands beside the robot in the scan's
+    blind disc: how far it goes on into the floor nobody observed is unknown, so that floor
+    keeps holding the robot after ~unknown_floor_wait, while unknown floor elsewhere in the
+    disc is taken for floor. Once the obstacle itself is let go (~obstacle_memory in the
+    disc), so is the floor around it."""
+    navigator = Navigator(0.1, 4.0, 0.165, 0.15, 0.05, memory_s=15.0, unknown_wait_s=5.0)
+    navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    navigator.grid.add_scan((0.0, 0.0), np.array([[0.45, 0.25]]), np.array([True]),
+                            stamp_s=0.0)
+    beside_xy, elsewhere_xy = np.array([0.5, 0.45]), np.array([-0.45, -0.3])
+
+    def unknown_near(xy, stamp_s):
+        navigator.grid.add_scan((0.0, 0.0), np.array([[0.0, -2.0]]), np.array([False]), 0.8,
+                                stamp_s=stamp_s)
+        points, _ = navigator.unknown_base()
+        return bool((np.linalg.norm(points - xy, axis=1) < 0.05).any())
+
+    assert unknown_near(beside_xy, 1.0) and unknown_near(elsewhere_xy, 1.0)
+    assert unknown_near(beside_xy, 8.0) and not unknown_near(elsewhere_xy, 8.0)
+    assert not unknown_near(beside_xy, 20.0)
+
+
 def test_an_obstacle_beside_the_last_stretch_moves_the_stop_point_around_the_can():
     """Half a metre from the can the robot sees an obstacle ahead-left, 0.26 m beside the
     straight line to the can, in five frames (as a specular highlight on the floor can give).

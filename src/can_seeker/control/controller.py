@@ -167,7 +167,8 @@ PARAMS = (
           600.0, safer='higher'),
     Param('unknown_floor_wait', 5.0, 'the safety layer keeps the robot off floor no sensor has '
           'observed; unknown floor that has been in a scan\'s blind disc (nearer than '
-          'range_min, where no turn can observe it) for this long is taken for floor (s)', 0.5,
+          'range_min, where no turn can observe it) for this long is taken for floor, unless it '
+          'lies within 0.3 m of a remembered obstacle (s)', 0.5,
           600.0, safer='higher'),
     Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
           'ahead (m)', 0.05, 5.0),

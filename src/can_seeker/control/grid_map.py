@@ -37,6 +37,10 @@ MISS_EVIDENCE = 1
 EVIDENCE_LIMIT = 12
 OBSERVED_SUBDIVISION = 2
 """Observed floor is kept on cells this many times finer than the obstacle grid's."""
+OBSTACLE_REACH_M = 0.3
+"""Unknown floor this near a remembered obstacle cell is never taken for floor by waiting: a
+camera that saw one side of an obstacle has not seen how far it goes on (a box's unseen
+corner, a round table's far rim)."""
 
 
 class GridMap:
@@ -207,22 +211,46 @@ class GridMap:
         near = np.linalg.norm(centres - np.asarray(centre_xy, float), axis=-1) <= radius_m
         self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= near
 
-    def unknown_points(self, centre_xy, radius_m: float,
-                       max_blind_disc_s: float = np.inf) -> np.ndarray:
+    def unknown_points(self, centre_xy, radius_m: float, max_blind_disc_s: float = np.inf,
+                       max_blind_s: float = np.inf) -> np.ndarray:
         """Odom centres (N x 2) of the fine cells within ``radius_m`` of ``centre_xy`` that
         nothing has observed, outside remembered obstacle cells, and in cells that have been in
         a scan's blind disc for less than ``max_blind_disc_s`` (no ray can observe one from
-        there, so it is taken for floor then)."""
+        there, so it is taken for floor then) or that lie within :data:`OBSTACLE_REACH_M` of
+        an obstacle cell scans have had in their blind zone for less than ``max_blind_s``
+        (see :meth:`obstacle_points`): an obstacle seen from one side goes on into the unknown
+        floor next to it, and a robot that waits beside it would otherwise take its unseen
+        side for floor."""
         fx, fy = self._fine_window(centre_xy, radius_m)
         if len(fx) == 0 or len(fy) == 0:
             return np.zeros((0, 2))
         gx, gy = np.meshgrid(fx, fy, indexing='ij')
         cx, cy = gx // OBSERVED_SUBDIVISION, gy // OBSERVED_SUBDIVISION
-        unknown = (~self.observed[gx, gy] & (self.evidence[cx, cy] <= 0)
-                   & (self.blind_disc_s[cx, cy] < max_blind_disc_s))
+        waiting = self.blind_disc_s[cx, cy] < max_blind_disc_s
+        if not waiting.all():
+            waiting |= self._near_obstacles(cx, cy, max_blind_s)
+        unknown = ~self.observed[gx, gy] & (self.evidence[cx, cy] <= 0) & waiting
         points = self._fine_centres(gx[unknown], gy[unknown]).reshape(-1, 2)
         near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
         return points[near]
+
+    def _near_obstacles(self, cx: np.ndarray, cy: np.ndarray, max_blind_s: float) -> np.ndarray:
+        """Which of the coarse cells ``(cx, cy)`` (index arrays of one shape) lie within
+        :data:`OBSTACLE_REACH_M` of an occupied cell that scans have had in their blind zone
+        for less than ``max_blind_s``."""
+        reach = int(math.ceil(OBSTACLE_REACH_M / self.resolution_m))
+        x0, y0 = max(0, int(cx.min()) - reach), max(0, int(cy.min()) - reach)
+        x1 = min(self.cells, int(cx.max()) + reach + 1)
+        y1 = min(self.cells, int(cy.max()) + reach + 1)
+        occupied = np.pad(self.occupied()[x0:x1, y0:y1] & (self.blind_s[x0:x1, y0:y1]
+                                                           < max_blind_s), reach)
+        near = np.zeros((x1 - x0, y1 - y0), bool)
+        for dx in range(-reach, reach + 1):
+            for dy in range(-reach, reach + 1):
+                if math.hypot(dx, dy) * self.resolution_m <= OBSTACLE_REACH_M:
+                    near |= occupied[reach + dx:reach + dx + near.shape[0],
+                                     reach + dy:reach + dy + near.shape[1]]
+        return near[cx - x0, cy - y0]
 
     def _window(self, centre_xy, radius_m: float) -> Tuple[np.ndarray, np.ndarray]:
         """Index ranges (ix, iy) of the cells in the square around ``centre_xy`` holding the

@@ -179,7 +179,7 @@ class Navigator:
         if pose is None:
             return np.zeros((0, 2)), 0.0
         points = self.grid.unknown_points((pose.x, pose.y), MEMORY_RADIUS_M,
-                                          self.unknown_wait_s)
+                                          self.unknown_wait_s, self.memory_s)
         if exclude_xy is not None:
             points = points[avoidance.far_from(points, exclude_xy, exclude_radius_m)]
         return (avoidance.to_frame(points, pose.x, pose.y, pose.yaw),
