@@ -33,6 +33,7 @@ from std_srvs.srv import Empty
 from can_seeker.msg import Contacts
 from can_seeker.srv import NewWorld, PlaceCan, ResetTrial
 from can_seeker.camera_geometry import yaw_from_quaternion
+from can_seeker.evaluation.clock_watch import ClockWatch
 from can_seeker.evaluation.trials import Contact, judge, path_length, pose_at, until
 
 STATE_TOPIC = 'can_stopper/state'
@@ -44,9 +45,12 @@ SERVICES = ('sim/reset_trial', 'sim/place_can', 'sim/new_world', 'sim/pause_phys
             'can_stopper/reset', 'obstacle_scan/reset')
 POLL_S = 0.01
 SETTLE_S = 0.5
+"""Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
 TRUTH_WAIT_S = 2.0
 """How long a trial's judge waits for the true poses up to the trial's end (wall s)."""
-"""Sim time (s) between STOPPED and the measurement, for the base to come to rest."""
+SIM_STALL_S = 30.0
+"""Wall time (s) with the sim clock standing still after which a wait for sim time gives up:
+the simulator died or hung (see :class:`ClockWatch`)."""
 LAUNCH_GUARD = ('while kill -0 "$1" 2>/dev/null; do sleep 1; done; '
                 'kill -INT -"$2" 2>/dev/null && sleep 20 && kill -KILL -"$2" 2>/dev/null')
 """sh script ``guard OWNER_PID LAUNCH_PGID``: once the owner process is gone (killed, so it
@@ -326,11 +330,19 @@ class TrialRunner:
         return start_s
 
     def wait_sim(self, duration_s, done=lambda: False):
-        """Sleep ``duration_s`` of sim time, or until ``done()``; False if ROS shut down."""
-        end_s = rospy.get_time() + duration_s
+        """Sleep ``duration_s`` of sim time, or until ``done()``; False if ROS shut down.
+        RuntimeError when the sim clock stands still for ``SIM_STALL_S`` of wall time: the
+        simulator died (the trial then runs again on a fresh system, see engine.run_trial)."""
+        start_s = rospy.get_time()
+        end_s = start_s + duration_s
+        watch = ClockWatch(SIM_STALL_S, start_s, time.monotonic())
         while rospy.get_time() < end_s and not done():
             if rospy.is_shutdown():
                 return False
+            if watch.stalled(rospy.get_time(), time.monotonic()):
+                raise RuntimeError('the sim clock has stood still at %.3f s for %.0f s of wall '
+                                   'time: the simulator died or hung' % (watch.sim_s,
+                                                                         SIM_STALL_S))
             time.sleep(POLL_S)
         return True
 
