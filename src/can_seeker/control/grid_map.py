@@ -31,6 +31,7 @@ from typing import Dict, Optional, Tuple
 import numpy as np
 
 from can_seeker.control.elapsed import elapsed_s
+from can_seeker.control.planner import inflate
 
 HIT_EVIDENCE = 4
 MISS_EVIDENCE = 1
@@ -242,14 +243,8 @@ class GridMap:
         x0, y0 = max(0, int(cx.min()) - reach), max(0, int(cy.min()) - reach)
         x1 = min(self.cells, int(cx.max()) + reach + 1)
         y1 = min(self.cells, int(cy.max()) + reach + 1)
-        occupied = np.pad(self.occupied()[x0:x1, y0:y1] & (self.blind_s[x0:x1, y0:y1]
-                                                           < max_blind_s), reach)
-        near = np.zeros((x1 - x0, y1 - y0), bool)
-        for dx in range(-reach, reach + 1):
-            for dy in range(-reach, reach + 1):
-                if math.hypot(dx, dy) * self.resolution_m <= OBSTACLE_REACH_M:
-                    near |= occupied[reach + dx:reach + dx + near.shape[0],
-                                     reach + dy:reach + dy + near.shape[1]]
+        occupied = self.occupied()[x0:x1, y0:y1] & (self.blind_s[x0:x1, y0:y1] < max_blind_s)
+        near = inflate(occupied, OBSTACLE_REACH_M / self.resolution_m)
         return near[cx - x0, cy - y0]
 
     def _window(self, centre_xy, radius_m: float) -> Tuple[np.ndarray, np.ndarray]:
