@@ -243,7 +243,7 @@ class GridMap:
         x0, y0 = max(0, int(cx.min()) - reach), max(0, int(cy.min()) - reach)
         x1 = min(self.cells, int(cx.max()) + reach + 1)
         y1 = min(self.cells, int(cy.max()) + reach + 1)
-        occupied = self.occupied()[x0:x1, y0:y1] & (self.blind_s[x0:x1, y0:y1] < max_blind_s)
+        occupied = (self.evidence[x0:x1, y0:y1] > 0) & (self.blind_s[x0:x1, y0:y1] < max_blind_s)
         near = inflate(occupied, OBSTACLE_REACH_M / self.resolution_m)
         return near[cx - x0, cy - y0]
 
