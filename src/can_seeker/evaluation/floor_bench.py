@@ -11,9 +11,7 @@ obstacle_scan sees them, and each scan bin is compared with a ray cast just abov
 from the robot's centre in the bin's direction:
 
 - a **miss** is an obstacle base within ``near_m`` that the scan puts more than the tolerance
-  farther away, or inside floor it says is free (+inf: free up to range_max): what lets a
-  robot drive into a wall. A NaN bin says nothing (a consumer keeps that floor unknown): an
-  obstacle there is **unmeasured**, not missed;
+  farther away, or not at all: what lets a robot drive into a wall;
 - a **phantom** is a bin whose range is more than the tolerance short of the truth (or of the
   farthest floor in view): what keeps a robot from driving where it could.
 
@@ -61,7 +59,6 @@ class ScanScore:
 
     near_bins: int = 0
     missed: int = 0
-    unmeasured: int = 0
     checked_bins: int = 0
     phantoms: int = 0
     frames: int = 0
@@ -74,10 +71,6 @@ class ScanScore:
     @property
     def miss_rate(self) -> float:
         return self.missed / self.near_bins if self.near_bins else 0.0
-
-    @property
-    def unmeasured_rate(self) -> float:
-        return self.unmeasured / self.near_bins if self.near_bins else 0.0
 
     @property
     def phantom_rate(self) -> float:
@@ -93,15 +86,14 @@ def score_scan(ranges_m: np.ndarray, truth_m: np.ndarray, range_min_m: float,
     ranges = np.asarray(ranges_m, np.float64)[EDGE_BINS:-EDGE_BINS]
     truth = np.asarray(truth_m, np.float64)[EDGE_BINS:-EDGE_BINS]
     visible = truth >= range_min_m + 0.05
+    seen = np.where(np.isnan(ranges), np.inf, ranges)
     near = visible & (truth <= near_m)
-    unmeasured = near & np.isnan(ranges)
-    claimed_free_to = np.where(np.isposinf(ranges), range_max_m, ranges)
-    missed = near & ~np.isnan(ranges) & (claimed_free_to > truth + tolerance_m(truth))
+    missed = near & (seen > truth + tolerance_m(truth))
     expected = np.minimum(truth, range_max_m)
-    phantom = visible & np.isfinite(ranges) & (ranges < expected - tolerance_m(expected))
+    phantom = visible & np.isfinite(seen) & (seen < expected - tolerance_m(expected))
     missed_count = int(missed.sum())
-    return ScanScore(int(near.sum()), missed_count, int(unmeasured.sum()), int(visible.sum()),
-                     int(phantom.sum()), 1, int(missed_count >= min_missed_bins))
+    return ScanScore(int(near.sum()), missed_count, int(visible.sum()), int(phantom.sum()), 1,
+                     int(missed_count >= min_missed_bins))
 
 
 def clearance_m(scene, x_m, y_m):
@@ -249,17 +241,16 @@ def run_room(urdf_path: str, seed: int, floor_settings: FloorSettings, duration_
 
 def summary_rows(results: List[RoomResult]) -> List[str]:
     """Markdown rows: one per room, then the total."""
-    rows = ['| seed | near bins missed | near bins unmeasured | frames with a miss | bins phantom '
-            '| look | mount |', '|---|---|---|---|---|---|---|']
+    rows = ['| seed | near bins missed | frames with a miss | bins phantom | look | mount |',
+            '|---|---|---|---|---|---|']
     total = ScanScore()
     for room in results:
         score = room.score
         total.add(score)
-        rows.append('| %d | %.2f %% | %.2f %% | %d / %d | %.2f %% | %s | %s |' % (
-            room.seed, 100.0 * score.miss_rate, 100.0 * score.unmeasured_rate,
-            score.frames_with_miss, score.frames, 100.0 * score.phantom_rate, room.look,
-            room.mount))
-    rows.append('| all | %.2f %% | %.2f %% | %d / %d | %.2f %% | | |' % (
-        100.0 * total.miss_rate, 100.0 * total.unmeasured_rate, total.frames_with_miss,
-        total.frames, 100.0 * total.phantom_rate))
+        rows.append('| %d | %.2f %% | %d / %d | %.2f %% | %s | %s |' % (
+            room.seed, 100.0 * score.miss_rate, score.frames_with_miss, score.frames,
+            100.0 * score.phantom_rate, room.look, room.mount))
+    rows.append('| all | %.2f %% | %d / %d | %.2f %% | | |' % (
+        100.0 * total.miss_rate, total.frames_with_miss, total.frames,
+        100.0 * total.phantom_rate))
     return rows

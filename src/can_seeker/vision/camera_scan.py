@@ -7,22 +7,12 @@ their angle about the scan frame's origin (a frame on the floor, z up, e.g. base
 bin keeping its nearest point, as depthimage_to_laserscan does for depth images.
 
 Conventions (REP-117): ranges are horizontal distances (m) from the scan frame's origin to
-the obstacle's base; angles span the camera's view as seen from that origin, increasing to the
-left (REP-103). range_min is the nearest floor distance in view. +inf says "floor, and no
-obstacle, from range_min to range_max" and a scan consumer clears that whole ray, so the scan
-says it only where the camera has looked at all of it:
-
-- range_max is where the optical axis meets the floor at the top of the rows an obstacle can
-  be found in (capped by ``max_range``): an obstacle standing on the image's top rows shows
-  less of itself than the smallest obstacle region the floor model reports (a square of
-  ``min_obstacle_area``), so the floor there is not vouched for;
-- a bin whose floor in view does not reach from range_min to range_max (at the image's sides a
-  pitched camera's footprint starts farther out and may end nearer: the floor beside the
-  robot) is NaN (not measured) when it holds no obstacle.
-
-An obstacle already at the image's bottom edge is reported at the bottom row's floor distance:
-it is at most that far. The target can is no obstacle; where it hides the floor right behind
-it and nothing nearer is seen, the range is NaN too.
+the obstacle's base; +inf where the camera sees floor up to the scan's range_max (nothing in
+view); angles span the camera's view as seen from that origin, increasing to the left
+(REP-103). range_max is the farthest floor distance in view (capped by ``max_range``);
+range_min the nearest. An obstacle already at the image's bottom edge is reported at the
+bottom row's floor distance: it is at most that far. The target can is no obstacle; where it
+hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
 """
 import math
 from dataclasses import dataclass
@@ -48,11 +38,6 @@ SCAN_PARAMS = (
           'scan, for a consumer that does not know its target; can_stopper needs it in: it '
           'leaves out only the can it approaches, and avoids every other red object'),
 )
-COVERAGE_TOLERANCE_M = 0.05
-COVERAGE_TOLERANCE = 0.05
-"""A bin's floor in view may start up to the larger of these (m, fraction of the range) beyond
-range_min and end as much short of range_max and still count as covering it (a row of pixels
-spans up to a few per cent of its range)."""
 CAN_MARGIN = 0.25
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
 width sideways, so a can's silver rims and white band are not obstacles either."""
@@ -65,8 +50,7 @@ class ScanGeometry:
     ``range_m``/``angle_rad`` (H x W) are the range and angle of the floor point under each
     pixel's lower edge (NaN where the ray misses the floor or is beyond ``range_max``);
     ``edge_angle_rad`` (H x W+1) the angles at the pixels' left/right edges. Scan bins are
-    ``angle_min + i * angle_increment`` (rad), ``bins`` of them; ``covered`` (bins) tells the
-    bins whose floor in view spans range_min to range_max (see the module docstring).
+    ``angle_min + i * angle_increment`` (rad), ``bins`` of them.
     """
 
     range_m: np.ndarray
@@ -78,7 +62,6 @@ class ScanGeometry:
     bins: int
     range_min: float
     range_max: float
-    covered: np.ndarray
 
     @property
     def angle_max(self) -> float:
@@ -96,11 +79,9 @@ def _floor_polar(pose: CameraPose, intrinsics: CameraIntrinsics, u, v):
     return np.hypot(x, y), np.arctan2(y, x)
 
 
-def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: float,
-                  top_margin_px: int = 0) -> Optional[ScanGeometry]:
-    """The floor geometry of the image, or None when the camera sees no floor within range.
-    The floor seen in the top ``top_margin_px`` rows on the optical axis is beyond range_max
-    (see the module docstring)."""
+def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
+                  max_range_m: float) -> Optional[ScanGeometry]:
+    """The floor geometry of the image, or None when the camera sees no floor within range."""
     if pose is None or intrinsics is None or pose.height_m <= 0.0:
         return None
     width, height = intrinsics.width, intrinsics.height
@@ -108,10 +89,6 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: f
     rows = np.arange(height, dtype=np.float64) + 0.5
     u, v = np.meshgrid(columns, rows)
     range_m, angle = _floor_polar(pose, intrinsics, u, v)
-    axis_range, _ = _floor_polar(pose, intrinsics, np.array(intrinsics.cx, np.float64),
-                                 np.array(min(height - 1, max(0, top_margin_px)) + 0.5))
-    if np.isfinite(axis_range):
-        max_range_m = min(max_range_m, float(axis_range))
     edge_u, edge_v = np.meshgrid(np.arange(width + 1, dtype=np.float64) - 0.5, rows)
     edge_range, edge_angle = _floor_polar(pose, intrinsics, edge_u, edge_v)
     in_range = np.isfinite(range_m) & (range_m <= max_range_m)
@@ -128,33 +105,11 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: f
     else:
         increment = (angle_max - angle_min) / width
     bins = max(1, int(math.ceil((angle_max - angle_min) / increment)))
-    angle_min += increment / 2.0
-    range_min, range_max = float(np.min(range_m[in_range])), float(np.max(range_m[in_range]))
-    covered = _covered_bins(range_m, angle, edge_angle, in_range, angle_min, increment, bins,
-                            range_min, range_max)
     return ScanGeometry(np.where(in_range, range_m, np.nan), np.where(in_range, angle, np.nan),
                         np.where(edge_in_range, edge_angle, np.nan), in_range,
-                        angle_min, increment, bins, range_min, range_max, covered)
-
-
-def _covered_bins(range_m: np.ndarray, angle_rad: np.ndarray, edge_angle_rad: np.ndarray,
-                  in_range: np.ndarray, angle_min: float, increment: float, bins: int,
-                  range_min: float, range_max: float) -> np.ndarray:
-    """Which bins' floor in view (the pixels ``in_range``, each over the bins between its edge
-    angles) reaches from range_min to range_max, within COVERAGE_TOLERANCE(_M)."""
-    rows, columns = np.nonzero(in_range)
-    first, last, valid = _bin_span(edge_angle_rad[rows, columns],
-                                   edge_angle_rad[rows, columns + 1], angle_rad[rows, columns],
-                                   angle_min, increment, bins)
-    index, owners = _spread(first, last)
-    ranges = range_m[rows, columns][valid][owners]
-    nearest = np.full(bins, np.inf)
-    farthest = np.full(bins, -np.inf)
-    np.minimum.at(nearest, index, ranges)
-    np.maximum.at(farthest, index, ranges)
-    return ((nearest <= range_min + max(COVERAGE_TOLERANCE_M, COVERAGE_TOLERANCE * range_min))
-            & (farthest >= range_max - max(COVERAGE_TOLERANCE_M,
-                                           COVERAGE_TOLERANCE * range_max)))
+                        angle_min + increment / 2.0, increment, bins,
+                        float(np.nanmin(range_m[in_range])),
+                        float(np.nanmax(range_m[in_range])))
 
 
 HIDDEN = -2
@@ -186,26 +141,20 @@ def lowest_obstacle_rows(obstacles: np.ndarray, in_range: np.ndarray,
 def _column_bins(geometry: ScanGeometry, rows: np.ndarray, columns: np.ndarray):
     """(first, last) scan bins covered by each column's pixel at ``rows``: the bins between the
     angles of its left and right edges, at least the bin of its centre."""
-    return _bin_span(geometry.edge_angle_rad[rows, columns],
-                     geometry.edge_angle_rad[rows, columns + 1],
-                     geometry.angle_rad[rows, columns], geometry.angle_min,
-                     geometry.angle_increment, geometry.bins)
-
-
-def _bin_span(left_rad, right_rad, centre_rad, angle_min: float, increment: float, bins: int):
-    """(first, last, valid): the bins between each pixel's edge angles (at least the bin of its
-    centre), for the pixels whose centre angle is known (``valid``)."""
-    edges = np.stack((left_rad, right_rad))
-    centre = (centre_rad - angle_min) / increment
+    edges = np.stack((geometry.edge_angle_rad[rows, columns],
+                      geometry.edge_angle_rad[rows, columns + 1]))
+    centre = (geometry.angle_rad[rows, columns] - geometry.angle_min) / geometry.angle_increment
     with np.errstate(invalid='ignore'):
-        first = np.ceil((np.nanmin(edges, axis=0) - angle_min) / increment)
-        last = np.floor((np.nanmax(edges, axis=0) - angle_min) / increment)
+        first = np.ceil((np.nanmin(edges, axis=0) - geometry.angle_min)
+                        / geometry.angle_increment)
+        last = np.floor((np.nanmax(edges, axis=0) - geometry.angle_min)
+                        / geometry.angle_increment)
     nearest = np.round(centre)
     first = np.where(np.isfinite(first), np.minimum(first, nearest), nearest)
     last = np.where(np.isfinite(last), np.maximum(last, nearest), nearest)
     valid = np.isfinite(nearest)
-    first = np.clip(first[valid], 0, bins - 1).astype(np.int64)
-    last = np.clip(last[valid], 0, bins - 1).astype(np.int64)
+    first = np.clip(first[valid], 0, geometry.bins - 1).astype(np.int64)
+    last = np.clip(last[valid], 0, geometry.bins - 1).astype(np.int64)
     return first, last, valid
 
 
@@ -219,15 +168,14 @@ def _spread(first, last):
 
 def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray,
                 can_bottom_row: int = -1) -> np.ndarray:
-    """LaserScan ranges (m, float32) from per-column obstacle rows: +inf = no obstacle from
-    range_min to range_max, NaN = not measured: hidden behind the can (HIDDEN columns, seen at
-    ``can_bottom_row``) or a bin the camera does not see all of (``geometry.covered``), and
-    nothing else seen in that direction.
+    """LaserScan ranges (m, float32) from per-column obstacle rows: +inf = no obstacle in view,
+    NaN = hidden behind the can (HIDDEN columns, seen at ``can_bottom_row``) and nothing else
+    seen in that direction.
 
     Each column's base point covers the bins between the angles of its left and right pixel
     edges (at least the bin of its centre), so a wall gives a scan without gaps.
     """
-    ranges = np.where(geometry.covered, np.inf, np.nan)
+    ranges = np.full(geometry.bins, np.inf, np.float64)
     hidden = np.flatnonzero(obstacle_rows == HIDDEN)
     hidden_bins = np.zeros(geometry.bins, bool)
     if hidden.size and can_bottom_row >= 0:
@@ -238,7 +186,7 @@ def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray,
         rows = obstacle_rows[columns]
         first, last, valid = _column_bins(geometry, rows, columns)
         bins, owners = _spread(first, last)
-        np.fmin.at(ranges, bins, geometry.range_m[rows, columns][valid][owners])
+        np.minimum.at(ranges, bins, geometry.range_m[rows, columns][valid][owners])
     ranges[hidden_bins & np.isinf(ranges)] = np.nan
     return ranges.astype(np.float32)
 
@@ -303,9 +251,8 @@ class CameraScanner:
         key = None if pose is None or intrinsics is None else (
             tuple(pose.position), pose.rotation.tobytes(), intrinsics)
         if key != self._geometry_key:
-            self.geometry = None if key is None else scan_geometry(
-                pose, intrinsics, self.max_range_m,
-                self.floor.smallest_region_px(intrinsics.width, intrinsics.height))
+            self.geometry = None if key is None else scan_geometry(pose, intrinsics,
+                                                                   self.max_range_m)
             self._geometry_key = key
         return self.geometry
 

@@ -42,7 +42,6 @@ it on the whole image before classifying (von Kries' chromatic adaptation, ancho
 floor). The shift follows a drift's pace and stays within ``~max_colour_shift``; a colour that
 differs from the floor's by more is never explained away as white balance.
 """
-import math
 from dataclasses import dataclass
 from typing import Optional
 
@@ -54,8 +53,6 @@ from can_seeker.vision.vignetting import VignettingEstimate
 from can_seeker.vision.white_balance import WhiteBalanceLock
 
 FLOOR_MODELS = ('adaptive', 'dark')
-OPENING_PX = 3
-"""Side (px) of the square opening that removes speckles from the obstacle mask."""
 
 HUE_BINS = 30
 """Colour histogram bins over OpenCV's hue (0-179): 12 degrees each; bin HUE_BINS is grey."""
@@ -326,17 +323,10 @@ class FloorClassifier:
         self.model_updated = True
         return floor
 
-    def smallest_region_px(self, width: int, height: int) -> int:
-        """Side (px) of the smallest square obstacle region the classifier reports in a
-        ``width`` x ``height`` image: the opening's 3 px or the minimum area's side."""
-        return max(OPENING_PX, int(math.ceil(math.sqrt(
-            self.settings.min_obstacle_area * width * height))))
-
     def _obstacle_regions(self, raw, bgr):
         """Speckles opened away; connected regions of at least the minimum area whose outline
         is an edge (see :func:`outline_contrast`)."""
-        opened = cv2.morphologyEx(raw, cv2.MORPH_OPEN, np.ones((OPENING_PX, OPENING_PX),
-                                                               np.uint8))
+        opened = cv2.morphologyEx(raw, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
         count, labels, stats, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
         if count <= 1:
             return opened
