@@ -4,8 +4,8 @@ import math
 import pytest
 
 from can_seeker.camera_geometry import yaw_from_quaternion
-from can_seeker.evaluation.trials import Contact, Criteria, judge, path_length, pose_at, \
-    summarise, summary_table, true_gap_and_bearing, until
+from can_seeker.evaluation.trials import Contact, Criteria, TrialResult, judge, path_length, \
+    pose_at, summarise, summary_table, true_gap_and_bearing, until
 
 CRITERIA = Criteria()
 TARGET_CENTRE_M = 0.25 + 0.165 + 0.033
@@ -133,3 +133,21 @@ def test_the_first_contact_is_reported_with_time_and_pose():
     assert touching.contact_text() == ('obstacle_5, wall_left (first obstacle_5 at 12.50 s '
                                        'sim, base_link at (-0.351, -2.057) yaw -63.3 deg)')
     assert trial().contact_text() == 'no' and trial().first_contact_s is None
+
+
+def test_lockstep_time_outs_are_summed_over_the_trials_that_know_them():
+    def with_timeouts(index, count):
+        return judge(index, (TARGET_CENTRE_M, 0.0), 10.0, (0.0, 0.0), 0.0,
+                     (TARGET_CENTRE_M, 0.0), False, 1.0, 12.0, 6.0, CRITERIA,
+                     lockstep_timeouts=count)
+    summary = summarise([with_timeouts(0, 0), with_timeouts(1, 3), with_timeouts(2, 1)],
+                        CRITERIA)
+    assert (summary['lockstep_timeouts'], summary['trials_with_lockstep_timeouts']) == (4, 2)
+    assert '| lockstep time-outs during trials | 4 (in 2 trials) |' in summary_table(summary)
+    free_running = summarise([trial()], CRITERIA)
+    assert free_running['lockstep_timeouts'] is None
+    assert '| lockstep time-outs during trials | n/a |' in summary_table(free_running)
+    assert TrialResult.from_dict(with_timeouts(0, 3).as_dict()).lockstep_timeouts == 3
+    old = with_timeouts(0, 3).as_dict()
+    del old['lockstep_timeouts']
+    assert TrialResult.from_dict(old).lockstep_timeouts is None

@@ -97,7 +97,9 @@ class TrialResult:
     base_link pose at the end (odom, m and deg); ``contact_objects`` what the robot touched
     ('can', wall and obstacle names); ``can_visible_from_start`` whether the start camera saw the
     can unoccluded (None: not known); ``first_contact_*`` when the robot first touched something
-    (sim s after the start; None: never), the true base_link pose then and what it touched.
+    (sim s after the start; None: never), the true base_link pose then and what it touched;
+    ``lockstep_timeouts`` the frames the simulator stepped on without their answers during the
+    trial (None: not in lockstep, or not known).
     """
 
     index: int
@@ -122,6 +124,7 @@ class TrialResult:
     first_contact_y_m: float = math.nan
     first_contact_yaw_deg: float = math.nan
     first_contact_objects: Sequence[str] = ()
+    lockstep_timeouts: Optional[int] = None
 
     def contact_text(self) -> str:
         """What was touched, and when and where first (for failure lines)."""
@@ -167,7 +170,8 @@ def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],
           contact: bool, path_m: float, sim_s: float, wall_s: float,
           criteria: Criteria, contact_objects: Sequence[str] = (),
           can_visible_from_start: Optional[bool] = None,
-          first_contact: Optional[Contact] = None) -> TrialResult:
+          first_contact: Optional[Contact] = None,
+          lockstep_timeouts: Optional[int] = None) -> TrialResult:
     """The result of a trial from its true final state (``final_can_xy``: the can may have
     been pushed, so it is measured where it is, not where it was placed)."""
     touch = first_contact or Contact(None, math.nan, math.nan, math.nan, ())
@@ -180,7 +184,8 @@ def judge(index: int, can_xy: Sequence[float], time_to_stop_s: Optional[float],
                        gap_m, math.degrees(bearing_rad), contact, path_m, sim_s, wall_s, success,
                        float(base_xy[0]), float(base_xy[1]), math.degrees(base_yaw_rad),
                        sorted(contact_objects), can_visible_from_start, touch.time_s,
-                       touch.x_m, touch.y_m, math.degrees(touch.yaw_rad), sorted(touch.objects))
+                       touch.x_m, touch.y_m, math.degrees(touch.yaw_rad), sorted(touch.objects),
+                       lockstep_timeouts)
 
 
 def _stats(values: List[float], kind: str) -> Optional[float]:
@@ -202,6 +207,8 @@ def summarise(results: Sequence[TrialResult], criteria: Criteria) -> dict:
     hidden = [result for result in results if result.can_visible_from_start is False]
     touched = collections.Counter(name for result in results
                                   for name in set(result.contact_objects))
+    timeouts = [result.lockstep_timeouts for result in results
+                if result.lockstep_timeouts is not None]
     sim_total = sum(result.sim_s for result in results)
     wall_total = sum(result.wall_s for result in results)
     return {
@@ -222,6 +229,8 @@ def summarise(results: Sequence[TrialResult], criteria: Criteria) -> dict:
         'can_hidden_at_start': len(hidden),
         'successes_can_hidden_at_start': sum(result.success for result in hidden),
         'real_time_factor': sim_total / wall_total if wall_total > 0.0 else None,
+        'lockstep_timeouts': sum(timeouts) if timeouts else None,
+        'trials_with_lockstep_timeouts': sum(count > 0 for count in timeouts),
         'criteria': asdict(criteria),
     }
 
@@ -235,6 +244,13 @@ def _touched(summary: dict) -> str:
     if not objects:
         return ''
     return ' (%s)' % ', '.join('%s in %d' % item for item in objects.items())
+
+
+def _timeouts(summary: dict) -> str:
+    if summary.get('lockstep_timeouts') is None:
+        return 'n/a'
+    return '%d (in %d trials)' % (summary['lockstep_timeouts'],
+                                  summary['trials_with_lockstep_timeouts'])
 
 
 def summary_table(summary: dict) -> str:
@@ -259,6 +275,7 @@ def summary_table(summary: dict) -> str:
         ('can not visible from the start', '%d (%d of them succeeded)'
          % (summary['can_hidden_at_start'], summary['successes_can_hidden_at_start'])),
         ('real-time factor', _format(summary['real_time_factor'], digits=2, unit='x')),
+        ('lockstep time-outs during trials', _timeouts(summary)),
     ]
     lines = ['| metric | value |', '|---|---|']
     lines += ['| %s | %s |' % row for row in rows]

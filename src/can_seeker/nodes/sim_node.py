@@ -27,7 +27,7 @@ from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, LaserScan, TimeReference
-from std_msgs.msg import Bool, String
+from std_msgs.msg import Bool, String, UInt32
 from std_srvs.srv import Empty, EmptyResponse
 from tf2_msgs.msg import TFMessage
 
@@ -122,6 +122,10 @@ class SimNode:
         self._contacts_pub = _publisher('~contacts', Contacts, truth_queue)
         self._tf_pub = _publisher('/tf', TFMessage, None if synchronous else TF_QUEUE_SIZE)
         self._world_pub = rospy.Publisher('~world', String, queue_size=1, latch=True)
+        self._timeouts_pub = rospy.Publisher('~lockstep_timeouts', UInt32, queue_size=1,
+                                             latch=True)
+        if self._gate is not None:
+            self._timeouts_pub.publish(UInt32(data=0))
         self._scan_pub = rospy.Publisher('scan', LaserScan, queue_size=5)
         self._delivery_pub = (_publisher(FRAME_DELIVERY_TOPIC, TimeReference, None)
                               if synchronous else None)
@@ -362,6 +366,7 @@ class SimNode:
         if missing is None:
             return True
         if missing:
+            self._timeouts_pub.publish(UInt32(data=self._gate.timeouts))
             rospy.logwarn_throttle(
                 ERROR_THROTTLE_S, 'sim: lockstep: no answer from %s within %.2f s at t=%.3f; '
                 'stepping on (%d frames timed out so far)' % (

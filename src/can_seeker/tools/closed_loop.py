@@ -9,7 +9,8 @@ so the final state is measured on a still world.
 Shared by ``scripts/evaluate``, ``scripts/demo`` and the closed-loop rostests. Ground truth comes
 from the simulator: ``sim/base_pose_ground_truth`` (true base pose; ``odom`` is the robot's
 own estimate, which drifts with ``realism``), ``sim/can_pose``, ``sim/contact`` and
-``sim/contacts`` (what was touched). In rooms and world files each trial first rebuilds the world
+``sim/contacts`` (what was touched); ``sim/lockstep_timeouts`` counts the frames a lockstep
+simulator stepped on without their answers. In rooms and world files each trial first rebuilds the world
 from its seed (``sim/new_world``). Topic and service names are relative: a monitor in the
 robot's namespace (``<group ns="robot1">``) watches that robot.
 """
@@ -27,7 +28,7 @@ import rospy
 from geometry_msgs.msg import PoseStamped, TwistStamped
 from nav_msgs.msg import Odometry
 from roslaunch.rlutil import resolve_launch_arguments
-from std_msgs.msg import Bool, String
+from std_msgs.msg import Bool, String, UInt32
 from std_srvs.srv import Empty
 
 from can_seeker.msg import Contacts
@@ -170,6 +171,7 @@ class TruthMonitor:
         self.start(0.0)
         self.commanding = threading.Event()
         self.first_command_s = None
+        self.lockstep_timeouts = None
         self.subscribers = [
             rospy.Subscriber(TRUE_POSE_TOPIC, Odometry, self._on_true_pose, queue_size=None),
             rospy.Subscriber('sim/can_pose', PoseStamped, self._on_can_pose, queue_size=None),
@@ -177,6 +179,8 @@ class TruthMonitor:
             rospy.Subscriber('sim/contacts', Contacts, self._on_contacts, queue_size=None),
             rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=10),
             rospy.Subscriber(COMMAND_TOPIC, TwistStamped, self._on_command, queue_size=1),
+            rospy.Subscriber('sim/lockstep_timeouts', UInt32, self._on_lockstep_timeouts,
+                             queue_size=10),
         ]
 
     def _on_command(self, message):
@@ -185,6 +189,10 @@ class TruthMonitor:
             self.first_command_s = stamp_s
         elif stamp_s - self.first_command_s >= WARM_UP_S:
             self.commanding.set()
+
+    def _on_lockstep_timeouts(self, message):
+        with self.lock:
+            self.lockstep_timeouts = message.data
 
     def wait_until_live(self, timeout_s):
         """Block until every truth topic is connected and the controller has commanded for
@@ -352,6 +360,8 @@ class TrialRunner:
         The simulator stays paused afterwards (the next :meth:`start` unpauses it).
         """
         start_wall = time.monotonic()
+        with self.monitor.lock:
+            timeouts_before = self.monitor.lockstep_timeouts
         start_s = self.start(can_xy)
         self.wait_sim(self.criteria.time_limit_s, lambda: self.monitor.stopped_s is not None)
         end_s = start_s + self.criteria.time_limit_s
@@ -368,7 +378,9 @@ class TrialRunner:
         time_to_stop = None if stopped_s is None else stopped_s - start_s
         with self.monitor.lock:
             contact_objects = sorted(self.monitor.contact_objects)
+            timeouts = (None if self.monitor.lockstep_timeouts is None else
+                        self.monitor.lockstep_timeouts - (timeouts_before or 0))
         return judge(index, can_xy, time_to_stop, pose[:2], pose[2], final_can, contact,
                      path_length(path), end_s - start_s,
                      time.monotonic() - start_wall, self.criteria, contact_objects,
-                     can_visible_from_start, self.monitor.contact_record())
+                     can_visible_from_start, self.monitor.contact_record(), timeouts)
