@@ -10,9 +10,9 @@ Shared by ``scripts/evaluate``, ``scripts/demo`` and the closed-loop rostests. G
 from the simulator: ``sim/base_pose_ground_truth`` (true base pose; ``odom`` is the robot's
 own estimate, which drifts with ``realism``), ``sim/can_pose``, ``sim/contact`` and
 ``sim/contacts`` (what was touched); ``sim/lockstep_timeouts`` counts the frames a lockstep
-simulator stepped on without their answers. In rooms and world files each trial first rebuilds the world
-from its seed (``sim/new_world``). Topic and service names are relative: a monitor in the
-robot's namespace (``<group ns="robot1">``) watches that robot.
+simulator stepped on without their answers. In rooms and world files each trial first rebuilds
+the world from its seed (``sim/new_world``). Topic and service names are relative: a monitor
+in the robot's namespace (``<group ns="robot1">``) watches that robot.
 """
 import math
 import os
