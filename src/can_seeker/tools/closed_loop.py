@@ -305,6 +305,7 @@ class TrialRunner:
         self.reset_obstacle_scan = rospy.ServiceProxy('obstacle_scan/reset', Empty,
                                                       persistent=True)
         self.new_world_service = rospy.ServiceProxy('sim/new_world', NewWorld)
+        self.timeouts_at_start = None
 
     def new_world(self, seed):
         """Rebuild the simulator's world from ``seed`` (paused; :meth:`run` starts the trial);
@@ -321,10 +322,14 @@ class TrialRunner:
 
         Paused, nothing moves and no frame is taken while the controller and the scene are
         reset, so the trial begins exactly at the reset, with the robot where it was put. The
-        first start waits until the system is live (so it needs a running simulator).
+        first start waits until the system is live (so it needs a running simulator); the
+        lockstep time-outs so far are taken then, so those of the system's startup are not the
+        trial's.
         """
         self.monitor.wait_until_live(LIVE_TIMEOUT_S)
         self.pause()
+        with self.monitor.lock:
+            self.timeouts_at_start = self.monitor.lockstep_timeouts
         reset = self.reset_trial(True, can_xy[0], can_xy[1])
         if not reset.success:
             self.unpause()
@@ -360,8 +365,6 @@ class TrialRunner:
         The simulator stays paused afterwards (the next :meth:`start` unpauses it).
         """
         start_wall = time.monotonic()
-        with self.monitor.lock:
-            timeouts_before = self.monitor.lockstep_timeouts
         start_s = self.start(can_xy)
         self.wait_sim(self.criteria.time_limit_s, lambda: self.monitor.stopped_s is not None)
         end_s = start_s + self.criteria.time_limit_s
@@ -379,7 +382,7 @@ class TrialRunner:
         with self.monitor.lock:
             contact_objects = sorted(self.monitor.contact_objects)
             timeouts = (None if self.monitor.lockstep_timeouts is None else
-                        self.monitor.lockstep_timeouts - (timeouts_before or 0))
+                        self.monitor.lockstep_timeouts - (self.timeouts_at_start or 0))
         return judge(index, can_xy, time_to_stop, pose[:2], pose[2], final_can, contact,
                      path_length(path), end_s - start_s,
                      time.monotonic() - start_wall, self.criteria, contact_objects,
