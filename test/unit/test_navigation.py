@@ -31,6 +31,22 @@ def test_scan_marks_its_hit_and_clears_the_floor_before_it():
     assert not grid.occupied()[grid.cell_of(0.85, 0.0)]
 
 
+def test_obstacle_values_tell_obstacle_observed_floor_and_unknown_apart():
+    grid = GridMap(0.1, 4.0)
+    grid.add_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
+
+    def value(x_m, y_m):
+        ix, iy = grid.cell_of(x_m, y_m)
+        return grid.obstacle_values()[iy, ix]       # rows along y
+    assert grid.obstacle_values().dtype == np.int8
+    assert value(1.0, 0.0) == 100
+    assert value(0.5, 0.0) == 0       # the ray passed over it
+    assert value(0.5, 1.0) == -1      # nothing looked there
+    assert value(-1.0, 0.0) == -1
+    grid.mark_observed((-1.0, 0.0), 0.2)             # the robot's body stood there
+    assert value(-1.0, 0.0) == 0
+
+
 def test_rays_passing_through_clear_an_obstacle_that_moved():
     grid = GridMap(0.1, 4.0)
     for _ in range(3):

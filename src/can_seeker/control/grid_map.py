@@ -95,6 +95,16 @@ class GridMap:
         """Cells with more evidence of an obstacle than of free floor."""
         return self.evidence > 0
 
+    def obstacle_values(self) -> np.ndarray:
+        """The obstacle memory as nav_msgs/OccupancyGrid data (rows along y, columns along x,
+        row-major from the origin cell): 100 obstacle, 0 where some ray or the robot's body has
+        observed part of the cell, -1 unknown (nothing has seen that floor)."""
+        fine = OBSERVED_SUBDIVISION
+        observed = self.observed.reshape(self.cells, fine, self.cells, fine).any(axis=(1, 3))
+        values = np.where(observed, 0, -1).astype(np.int8)
+        values[self.occupied()] = 100
+        return values.T
+
     def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
                  clear_from_m: float = 0.0, stamp_s: float = 0.0, source: str = '') -> None:
         """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom) taken at ``stamp_s`` by sensor

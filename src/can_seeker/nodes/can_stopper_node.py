@@ -11,9 +11,10 @@ same command stamped with the time it is for) from a fixed-rate timer, or with `
 once per detection, stamped like its image;
 ``~state`` (std_msgs/String, latched); ``~coverage`` (nav_msgs/OccupancyGrid, latched, once a
 second) and, for rviz while subscribed, ``~obstacle_grid`` (nav_msgs/OccupancyGrid of the
-obstacle memory, latched), ``~path`` (nav_msgs/Path, the planned path, empty when none) and
-``~markers`` (visualization_msgs/MarkerArray: the can estimate, the state over the robot), all
-in ``~odom_frame``; ``/diagnostics`` (each input's rate and age, the state and why the command
+obstacle memory: 100 obstacle, 0 observed floor, -1 unknown; latched), ``~path``
+(nav_msgs/Path, the planned path, empty when none) and ``~markers``
+(visualization_msgs/MarkerArray: the can estimate, the state over the robot), all in
+``~odom_frame``; ``/diagnostics`` (each input's rate and age, the state and why the command
 is zero or limited); ``~reset`` (std_srvs/Empty) returns to SEARCH and forgets the map. The
 behaviour is :mod:`can_seeker.control.controller`. Invalid safety bounds among the parameters
 stop the node at start (exit status 1); every control tick ends in a published command, zero
@@ -361,8 +362,7 @@ class CanStopperNode:
         self.view_s = now
         controller = self.controller
         navigator = controller.navigator
-        grid = (np.where(navigator.grid.occupied(), 100, 0).astype(np.int8).T
-                if want_grid else None)
+        grid = navigator.grid.obstacle_values() if want_grid else None
         path = None if controller.path_xy is None else np.array(controller.path_xy)
         pose = navigator.pose
         return (grid, path if want_path else False, controller.can_xy,
