@@ -227,6 +227,48 @@ def test_following_a_path_says_why_it_only_turns():
     assert linear == 0.0 and angular != 0.0 and why.startswith('no heading clear')
 
 
+def wall_navigator(wall_xy, pose):
+    """A navigator at ``pose`` that has seen obstacles at the odom points ``wall_xy``."""
+    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
+    navigator.pose = pose
+    ends = avoidance.to_frame(np.asarray(wall_xy, float), pose.x, pose.y, pose.yaw)
+    for _ in range(3):
+        navigator.add_scan(ends, np.ones(len(ends), bool), (0.0, 0.0), pose)
+    return navigator
+
+
+def clearance_of(path_xy, wall_xy):
+    """Nearest distance (m) from each path point to the obstacle points."""
+    return np.min(np.linalg.norm(np.asarray(path_xy)[:, None, :]
+                                 - np.asarray(wall_xy)[None, :, :], axis=2), axis=1)
+
+
+def test_a_passage_too_narrow_for_the_plan_margin_is_a_way_the_safety_layer_allows():
+    """A 0.7 m gap in a wall (a doorway, the floor between a table and a wall) is too narrow
+    for the robot plus ``plan_margin`` on both sides, but wide enough for the safety layer's
+    own margin: paths and exploration go through it, along its middle."""
+    wall = np.array([(1.0, y) for y in np.arange(-4.9, 4.91, 0.05) if abs(y) >= 0.35])
+    navigator = wall_navigator(wall, Pose2D(0.0, 0.0, 0.0))
+    path = navigator.path_to((2.0, 0.0))
+    assert path is not None
+    assert np.all(clearance_of(path, wall) > 0.165 + 0.05)
+    navigator.grid.seen[:navigator.grid.cell_of(1.1, 0.0)[0], :] = True
+    goal = navigator.frontier(0.3, 6)
+    assert goal is not None and goal[0] > 1.0
+
+
+def test_a_robot_within_the_plan_margin_leaves_it_and_keeps_it_on_the_way():
+    """A robot that stands nearer a wall than ``plan_margin`` allows may plan its way out of
+    that margin, but not along the wall inside it."""
+    wall = np.array([(x, 0.5) for x in np.arange(-1.0, 3.01, 0.05)])
+    navigator = wall_navigator(wall, Pose2D(0.0, 0.25, 0.0))
+    path = navigator.path_to((2.0, 0.15))
+    assert path is not None
+    beyond_start = np.linalg.norm(path - (0.0, 0.25), axis=1) > 0.45
+    assert np.any(beyond_start)
+    assert np.all(clearance_of(path[beyond_start], wall) >= 0.165 + 0.15 - 1e-6)
+
+
 # Controller ----------------------------------------------------------------------------------
 
 OBSTACLES = [(1.2, 1.2, 0.25), (-1.0, 1.0, 0.2), (0.8, -1.4, 0.3), (-1.5, -1.0, 0.25),

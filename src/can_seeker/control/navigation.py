@@ -242,51 +242,73 @@ class Navigator:
         margin = self.plan_margin_m if margin_m is None else margin_m
         return planner.inflate(occupied, (self.robot_radius_m + margin) / self.grid.resolution_m)
 
-    def _plan(self, goal: Optional[Tuple[int, int]], exclude_xy, exclude_radius_m: float):
-        """(window, blocked cells, wavefront distances) from the robot's cell; the margin is
-        dropped when the robot already stands inside it, so it can still leave."""
+    def _plan(self, goal: Optional[Tuple[int, int]], exclude_xy, exclude_radius_m: float,
+              margin_m: float):
+        """(window, blocked cells, wavefront distances) from the robot's cell with obstacles
+        grown by ``margin_m``. A robot that already stands within the margin may cross the
+        cells about it that the margin alone blocks, so it can leave; elsewhere the margin
+        holds."""
         start = self.grid.cell_of(self.pose.x, self.pose.y)
         if start is None:
             return None
         known = self.grid.seen | self.grid.occupied()
         cells = (start,) if goal is None else (start, goal)
         window = planner.planning_window(known, cells, PLAN_MARGIN_CELLS)
-        for margin in (self.plan_margin_m, 0.0):
-            blocked = window.crop(self.blocked_cells(exclude_xy, exclude_radius_m, margin))
-            if not blocked[window.local(start)]:
-                break
-        return window, blocked, planner.wavefront(~blocked, window.local(start))
+        local_start = window.local(start)
+        blocked = window.crop(self.blocked_cells(exclude_xy, exclude_radius_m, margin_m))
+        if blocked[local_start]:
+            about = np.zeros_like(blocked)
+            about[local_start] = True
+            about = planner.inflate(about, (self.robot_radius_m + margin_m)
+                                    / self.grid.resolution_m)
+            bare = window.crop(self.blocked_cells(exclude_xy, exclude_radius_m, 0.0))
+            blocked &= ~(about & ~bare)
+        return window, blocked, planner.wavefront(~blocked, local_start)
+
+    @property
+    def plan_margins_m(self) -> Tuple[float, ...]:
+        """The margins a plan tries in turn: ``plan_margin``, then the safety layer's own (a
+        passage too narrow for the planner's margin that the safety layer lets the robot
+        through, such as a doorway, is still a way)."""
+        return tuple(dict.fromkeys((self.plan_margin_m, min(self.plan_margin_m,
+                                                             self.cell_margin_m))))
 
     def path_to(self, goal_xy: Sequence[float], exclude_xy=None,
                 exclude_radius_m: float = 0.0) -> Optional[np.ndarray]:
-        """Odom points of a grid path from the robot to ``goal_xy``, or None if unreachable."""
+        """Odom points of a grid path from the robot to ``goal_xy``, or None if unreachable
+        (with each of :attr:`plan_margins_m` in turn)."""
         goal = self.grid.cell_of(goal_xy[0], goal_xy[1])
         if self.pose is None or goal is None:
             return None
-        plan = self._plan(goal, exclude_xy, exclude_radius_m)
-        if plan is None:
-            return None
-        window, _, distance = plan
-        local_goal = window.local(goal)
-        if not np.isfinite(distance[local_goal]):
-            return None
-        cells = [window.grid(cell) for cell in planner.descend(distance, local_goal)]
-        return self.grid.centre_of(*np.array(cells).T).reshape(-1, 2)
+        for margin_m in self.plan_margins_m:
+            plan = self._plan(goal, exclude_xy, exclude_radius_m, margin_m)
+            if plan is None:
+                return None
+            window, _, distance = plan
+            local_goal = window.local(goal)
+            if np.isfinite(distance[local_goal]):
+                cells = [window.grid(cell) for cell in planner.descend(distance, local_goal)]
+                return self.grid.centre_of(*np.array(cells).T).reshape(-1, 2)
+        return None
 
     def frontier(self, turn_cost_m_per_rad: float, min_unseen_cells: int) -> Optional[np.ndarray]:
-        """Odom centre of the best exploration goal (see :func:`planner.frontier_goal`)."""
+        """Odom centre of the best exploration goal (see :func:`planner.frontier_goal`), with
+        each of :attr:`plan_margins_m` in turn."""
         if self.pose is None:
             return None
-        plan = self._plan(None, None, 0.0)
-        if plan is None:
-            return None
-        window, blocked, distance = plan
-        start = window.local(self.grid.cell_of(self.pose.x, self.pose.y))
-        goal = planner.frontier_goal(distance, window.crop(self.grid.seen), blocked, start,
-                                     self.pose.yaw, self.grid.resolution_m,
-                                     turn_cost_m_per_rad, min_unseen_cells,
-                                     2.0 * GOAL_REACHED_M / self.grid.resolution_m)
-        return None if goal is None else self.grid.centre_of(*window.grid(goal))
+        for margin_m in self.plan_margins_m:
+            plan = self._plan(None, None, 0.0, margin_m)
+            if plan is None:
+                return None
+            window, blocked, distance = plan
+            start = window.local(self.grid.cell_of(self.pose.x, self.pose.y))
+            goal = planner.frontier_goal(distance, window.crop(self.grid.seen), blocked, start,
+                                         self.pose.yaw, self.grid.resolution_m,
+                                         turn_cost_m_per_rad, min_unseen_cells,
+                                         2.0 * GOAL_REACHED_M / self.grid.resolution_m)
+            if goal is not None:
+                return self.grid.centre_of(*window.grid(goal))
+        return None
 
     def is_seen(self, xy: Sequence[float]) -> bool:
         """True when the camera has covered the cell of odom point ``xy``."""
