@@ -147,7 +147,8 @@ PARAMS = (
           'farthest floor the camera counts as covered, where it still finds the can (m)',
           0.3, 20.0),
     Param('plan_margin', 0.15, 'clearance kept from obstacles on planned paths, beyond '
-          'robot_radius (m)', 0.0, 1.0),
+          'robot_radius; where no path keeps it (a narrow passage), paths keep the safety '
+          'layer\'s margin (m)', 0.0, 1.0),
     Param('safety_margin', 0.05, 'clearance the safety layer keeps from any sensed obstacle, '
           'beyond robot_radius (m)', 0.0, 1.0, safer='higher'),
     Param('explore_linear', 0.3, 'cruise speed while exploring, on paths and wandering (m/s)',
