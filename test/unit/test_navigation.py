@@ -371,11 +371,11 @@ def test_a_scan_does_not_clear_what_is_remembered_in_its_blind_zone():
     assert not grid.occupied()[grid.cell_of(1.0, 0.0)]
 
 
-def test_occupancy_values_have_rows_along_y():
+def test_coverage_values_have_rows_along_y():
     grid = GridMap(0.1, 2.0)
     grid.add_scan((0.0, 0.0), np.array([[0.55, -0.35]]), np.array([True]))
     grid.mark_seen((0.0, 0.0), math.pi / 2.0, 0.2, 0.0, 0.5)
-    values = grid.occupancy_values()
+    values = grid.coverage_values()
     ix, iy = grid.cell_of(0.55, -0.35)
     assert values[iy, ix] == 100
     ix, iy = grid.cell_of(0.0, 0.3)

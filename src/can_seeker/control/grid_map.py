@@ -95,16 +95,6 @@ class GridMap:
         """Cells with more evidence of an obstacle than of free floor."""
         return self.evidence > 0
 
-    def obstacle_values(self) -> np.ndarray:
-        """The obstacle memory as nav_msgs/OccupancyGrid data (rows along y, columns along x,
-        row-major from the origin cell): 100 obstacle, 0 where some ray or the robot's body has
-        observed part of the cell, -1 unknown (nothing has seen that floor)."""
-        fine = OBSERVED_SUBDIVISION
-        observed = self.observed.reshape(self.cells, fine, self.cells, fine).any(axis=(1, 3))
-        values = np.where(observed, 0, -1).astype(np.int8)
-        values[self.occupied()] = 100
-        return values.T
-
     def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
                  clear_from_m: float = 0.0, stamp_s: float = 0.0, source: str = '') -> None:
         """Rays from ``origin_xy`` to ``ends_xy`` (N x 2, odom) taken at ``stamp_s`` by sensor
@@ -302,10 +292,21 @@ class GridMap:
         near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
         return points[near]
 
-    def occupancy_values(self) -> np.ndarray:
-        """The grid as nav_msgs/OccupancyGrid data (rows along y, columns along x, row-major
-        from the origin cell): 100 obstacle, 0 floor the camera covered, -1 not covered."""
-        values = np.full(self.seen.shape, -1, np.int8)
-        values[self.seen] = 0
+    def _occupancy_data(self, known: np.ndarray) -> np.ndarray:
+        """nav_msgs/OccupancyGrid data (rows along y, columns along x, row-major from the origin
+        cell): 100 obstacle, 0 on the other ``known`` cells, -1 on the rest."""
+        values = np.where(known, 0, -1).astype(np.int8)
         values[self.occupied()] = 100
         return values.T
+
+    def coverage_values(self) -> np.ndarray:
+        """The coverage as OccupancyGrid data: 100 obstacle, 0 floor the camera covered, -1 not
+        covered."""
+        return self._occupancy_data(self.seen)
+
+    def obstacle_values(self) -> np.ndarray:
+        """The obstacle memory as OccupancyGrid data: 100 obstacle, 0 where some ray or the
+        robot's body has observed part of the cell, -1 unknown (nothing has seen that floor)."""
+        fine = OBSERVED_SUBDIVISION
+        return self._occupancy_data(
+            self.observed.reshape(self.cells, fine, self.cells, fine).any(axis=(1, 3)))

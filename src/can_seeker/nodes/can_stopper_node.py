@@ -324,7 +324,7 @@ class CanStopperNode:
             if (self.controller.senses_obstacles
                     and abs(now - self.coverage_s) >= COVERAGE_PERIOD_S):
                 self.coverage_s = now
-                coverage = self.controller.navigator.grid.occupancy_values()
+                coverage = self.controller.navigator.grid.coverage_values()
             missing = self.controller.missing_inputs(now)
             state, why = self.controller.state.value, self.why(now)
             view = self.view(now)
