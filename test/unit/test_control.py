@@ -141,7 +141,7 @@ def test_approach_drives_forward_and_steers_toward_bearing():
     controller = make_controller()
     command, _ = run(controller, ahead(1.5, 5.0), 0.0, 3.0)
     assert controller.state is State.APPROACH
-    assert command[0] == pytest.approx(DEFAULTS['max_linear'] * math.cos(0.5 * math.pi * 5.0 / 25.0))
+    assert command[0] == pytest.approx(DEFAULTS['max_linear'] * (1 - 5.0 / 25.0))
     assert command[1] == pytest.approx(DEFAULTS['angular_gain'] * math.radians(5.0))
 
 

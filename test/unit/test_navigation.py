@@ -161,18 +161,6 @@ def test_each_point_may_have_its_own_clearance():
         pytest.approx(0.5, abs=0.03)
 
 
-def test_speed_falls_with_the_heading_error_to_zero_at_the_turn_in_place_angle():
-    limit = math.radians(25.0)
-    assert avoidance.heading_speed_scale(0.0, limit) == 1.0
-    assert avoidance.heading_speed_scale(limit / 3.0, limit) == pytest.approx(math.sqrt(3) / 2)
-    assert avoidance.heading_speed_scale(-limit / 3.0, limit) == pytest.approx(math.sqrt(3) / 2)
-    assert avoidance.heading_speed_scale(limit, limit) == 0.0
-    assert avoidance.heading_speed_scale(2.0 * limit, limit) == 0.0
-    linear, angular = avoidance.steer_to_point((1.0, math.tan(limit / 3.0)), 0.3, limit, 2.0)
-    assert linear == pytest.approx(0.3 * math.sqrt(3) / 2)
-    assert angular == pytest.approx(2.0 * limit / 3.0)
-
-
 def test_safe_linear_brakes_before_the_obstacle():
     assert avoidance.safe_linear(0.4, 2.0, 0.5, 0.03) == 0.4
     assert avoidance.safe_linear(0.4, 0.1, 0.5, 0.03) == pytest.approx(math.sqrt(2 * 0.5 * 0.07))

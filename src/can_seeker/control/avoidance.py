@@ -122,21 +122,13 @@ def wrap_angle(angle_rad: float) -> float:
     return math.atan2(math.sin(angle_rad), math.cos(angle_rad))
 
 
-def heading_speed_scale(bearing_rad: float, turn_in_place_rad: float) -> float:
-    """Fraction of the forward speed to drive at with the goal ``bearing_rad`` off the
-    heading: 1 dead ahead, falling as a quarter cosine to 0 at ``turn_in_place_rad`` and
-    beyond. Flat near zero, so the few degrees a grid path's lookahead point usually lies off
-    the heading cost little speed (0.86 at a third of ``turn_in_place_rad``, not 0.67)."""
-    fraction = abs(bearing_rad) / turn_in_place_rad
-    return math.cos(0.5 * math.pi * fraction) if fraction < 1.0 else 0.0
-
-
 def steer_to_point(target_base: Tuple[float, float], cruise_mps: float, turn_in_place_rad: float,
                    angular_gain: float) -> Tuple[float, float]:
     """(linear, angular) that drives base_link toward a point in base_link: turn toward it,
-    forward speed scaled by :func:`heading_speed_scale`."""
+    forward speed falling to zero at ``turn_in_place_rad`` off."""
     bearing = math.atan2(target_base[1], target_base[0])
-    return cruise_mps * heading_speed_scale(bearing, turn_in_place_rad), angular_gain * bearing
+    linear = cruise_mps * max(0.0, 1.0 - abs(bearing) / turn_in_place_rad)
+    return linear, angular_gain * bearing
 
 
 def lookahead_index(path_xy: np.ndarray, position_xy: Sequence[float],

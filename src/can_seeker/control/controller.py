@@ -594,8 +594,8 @@ class Controller:
                             config.angular_gain, config.min_angular)
         if linear > 0.0:
             braking_speed = math.sqrt(2.0 * config.max_linear_accel * gap_error)
-            linear = min(linear, braking_speed, config.max_linear) * avoidance.heading_speed_scale(
-                steer, math.radians(config.turn_in_place_deg))
+            heading_scale = max(0.0, 1.0 - abs(steer) / math.radians(config.turn_in_place_deg))
+            linear = min(linear, braking_speed, config.max_linear) * heading_scale
         return linear, angular
 
     def _stop_aside_bearing(self) -> Optional[float]:
