@@ -302,6 +302,23 @@ def test_search_explores_after_a_full_turn_and_finds_a_hidden_can():
     assert gap == pytest.approx(DEFAULTS['stop_distance'], abs=0.02)
 
 
+def test_with_a_lidar_exploration_heads_first_for_the_small_object_it_saw():
+    """The lidar sees the can across the room as a small object standing free (the kinematic
+    world's lidar sees it as a 0.03 m post): after the SEARCH turn, which does not show it,
+    the first exploration goal is that place, not the nearest uncovered floor."""
+    can = (-2.3, -2.3)
+    world = World(3.0, OBSTACLES + [(can[0], can[1], 0.03)], can)
+    controller = make_controller()
+    run(controller, world, 30.0, stop_when=lambda c: c.state is State.EXPLORE)
+    assert controller.state is State.EXPLORE
+    assert controller.goal_is_candidate
+    assert math.hypot(controller.goal_xy[0] - can[0], controller.goal_xy[1] - can[1]) < 0.1
+    now, poses, states, clearance = run(controller, world, 60.0, stop_when=stopped,
+                                        start_s=30.0)
+    assert controller.state is State.STOPPED
+    assert clearance > 0.0
+
+
 def test_approach_goes_around_an_obstacle_between_robot_and_can():
     world = World(3.0, [(1.0, 0.0, 0.3)], (2.2, 0.0))
     controller = make_controller()

@@ -6,7 +6,9 @@ fixed rate):
 - SEARCH: turn in place toward the side the can was last seen (left at start); after a full
   turn (odom yaw) without the can, EXPLORE.
 - EXPLORE: drive on grid paths to the nearest floor the camera has not covered yet (frontier
-  exploration, :mod:`can_seeker.control.navigation`); at the goal, SEARCH again.
+  exploration, :mod:`can_seeker.control.navigation`), but first to any small object standing
+  free that an all-round scan (a lidar) showed and the camera has not covered
+  (:mod:`can_seeker.control.can_candidates`); at the goal, SEARCH again.
 - APPROACH: steer on the bearing, drive at a speed set by the gap error, slow down near the
   target so the acceleration limit can stop it without overshoot, back up if too close; while
   obstacles lie between the robot and the can, follow a grid path around them.
@@ -381,6 +383,7 @@ class Controller:
         self.facing_lost_s: Optional[float] = None
         self.searched_rad = 0.0
         self.goal_xy: Optional[np.ndarray] = None
+        self.goal_is_candidate = False
         self.path_xy: Optional[np.ndarray] = None
         self.progress: Optional[Tuple[int, float]] = None
         self.stop_aside: Optional[float] = None
@@ -662,11 +665,19 @@ class Controller:
         return command
 
     def _explore(self, now_s: float) -> Tuple[float, float]:
-        """Head for the nearest floor not covered yet; SEARCH again on arrival."""
+        """Head for the nearest place an all-round scan showed a small object standing free
+        that the camera has not covered (the can, maybe), else for the best floor not covered
+        yet; SEARCH again on arrival."""
         navigator, config = self.navigator, self.config
-        if (self.goal_xy is None or navigator.is_seen(self.goal_xy)
+        covered = (self.goal_xy is not None
+                   and (navigator.viewed(self.goal_xy) if self.goal_is_candidate
+                        else navigator.is_seen(self.goal_xy)))
+        if (self.goal_xy is None or covered
                 or elapsed_s(now_s, self.planned_s) >= config.replan_period):
-            self.goal_xy = navigator.frontier(config.explore_turn_cost, FRONTIER_MIN_UNSEEN)
+            self.goal_xy = navigator.unviewed_candidate()
+            self.goal_is_candidate = self.goal_xy is not None
+            if self.goal_xy is None:
+                self.goal_xy = navigator.frontier(config.explore_turn_cost, FRONTIER_MIN_UNSEEN)
             self.path_xy = None
             if self.goal_xy is None:
                 navigator.grid.forget_coverage()
@@ -675,7 +686,8 @@ class Controller:
         if navigator.distance_to(self.goal_xy) < GOAL_REACHED_M:
             self._enter(State.SEARCH)
             return 0.0, self.turn_sign * config.search_angular
-        command = self._follow_path(self.goal_xy, now_s)
+        command = self._follow_path(self.goal_xy, now_s,
+                                    self.goal_xy if self.goal_is_candidate else None)
         if command is None:
             navigator.give_up_on(self.goal_xy)
             self.goal_xy = None

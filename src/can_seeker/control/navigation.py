@@ -8,12 +8,12 @@ its arc through the live scan, the remembered obstacles and the floor no sensor 
 """
 import math
 from dataclasses import dataclass
-from typing import Dict, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from can_seeker.camera_geometry import CameraIntrinsics, CameraPose, floor_point
-from can_seeker.control import avoidance, planner
+from can_seeker.control import avoidance, can_candidates, planner
 from can_seeker.control.grid_map import GridMap
 
 PLAN_MARGIN_CELLS = 10
@@ -87,12 +87,14 @@ class Navigator:
         self.safety_margin_m = safety_margin_m
         self._pose: Optional[Pose2D] = None
         self.last_scans: Dict[str, Tuple[np.ndarray, Pose2D]] = {}
+        self.candidates: List[np.ndarray] = []
 
     def reset(self) -> None:
-        """Forget the map, the pose and the last scans."""
+        """Forget the map, the pose, the last scans and the places the can may stand."""
         self.grid.clear()
         self._pose = None
         self.last_scans = {}
+        self.candidates: List[np.ndarray] = []
 
     @property
     def pose(self) -> Optional[Pose2D]:
@@ -120,6 +122,10 @@ class Navigator:
         if source not in self.grid.scan_s:
             self.grid.mark_observed(origin[0], range_min_m + self.grid.resolution_m)
         self.last_scans[source] = (ends[hits], pose)
+        if can_candidates.all_round(ends, origin_base):
+            self._add_candidates(avoidance.from_frame(
+                np.array(can_candidates.small_objects(ends, hits, origin_base)).reshape(-1, 2),
+                pose.x, pose.y, pose.yaw))
         self.grid.add_scan(origin[0], avoidance.from_frame(ends, pose.x, pose.y, pose.yaw), hits,
                            range_min_m, stamp_s, source)
 
@@ -314,6 +320,32 @@ class Navigator:
         """True when the camera has covered the cell of odom point ``xy``."""
         cell = self.grid.cell_of(xy[0], xy[1])
         return cell is None or bool(self.grid.seen[cell])
+
+    def _add_candidates(self, points_xy: np.ndarray) -> None:
+        """Remember the odom places where the can may stand, once each (within a cell)."""
+        for point in points_xy:
+            if all(np.linalg.norm(point - known) > self.grid.resolution_m
+                   for known in self.candidates):
+                self.candidates.append(point)
+
+    def viewed(self, xy: Sequence[float]) -> bool:
+        """True when the camera has covered the cell of odom point ``xy`` or one next to it
+        (an object's own cell may stay uncovered: coverage stops at the first obstacle)."""
+        cell = self.grid.cell_of(xy[0], xy[1])
+        if cell is None:
+            return True
+        return bool(self.grid.seen[max(0, cell[0] - 1):cell[0] + 2,
+                                   max(0, cell[1] - 1):cell[1] + 2].any())
+
+    def unviewed_candidate(self) -> Optional[np.ndarray]:
+        """The nearest place an all-round scan showed a small free-standing object (see
+        :mod:`can_seeker.control.can_candidates`) that the camera has not covered, or None."""
+        if self.pose is None:
+            return None
+        waiting = [point for point in self.candidates if not self.viewed(point)]
+        if not waiting:
+            return None
+        return min(waiting, key=self.distance_to)
 
     def give_up_on(self, xy: Sequence[float]) -> None:
         """Count the cells around an unreachable goal as seen, so exploration moves on."""
