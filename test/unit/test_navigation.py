@@ -319,6 +319,27 @@ def test_with_a_lidar_exploration_heads_first_for_the_small_object_it_saw():
     assert clearance > 0.0
 
 
+def test_exploration_keeps_a_candidate_goal_while_the_robot_gets_nearer_over_covered_floor():
+    controller = make_controller()
+    grid = controller.navigator.grid
+    grid.seen[:] = True
+    ix, iy = grid.cell_of(3.0, 0.0)
+    grid.seen[ix - 2:ix + 3, iy - 2:iy + 3] = False
+    controller.navigator.candidates.append(np.array([3.0, 0.0]))
+    controller.navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    assert controller.navigator.unviewed_candidate() is not None
+    controller.state = State.EXPLORE
+    controller.goal_xy, controller.goal_is_candidate = np.array([3.0, 0.0]), True
+    for step in range(200):                                  # 10 s at 0.1 m/s, nothing new seen
+        controller.navigator.pose = Pose2D(0.005 * step, 0.0, 0.0)
+        controller._note_progress(0.05 * step)
+    assert controller.goal_xy is not None
+    for step in range(200, 400):                             # 10 s standing
+        controller._note_progress(0.05 * step)
+    assert controller.goal_xy is None                        # given up
+    assert controller.navigator.unviewed_candidate() is None
+
+
 def test_approach_goes_around_an_obstacle_between_robot_and_can():
     world = World(3.0, [(1.0, 0.0, 0.3)], (2.2, 0.0))
     controller = make_controller()

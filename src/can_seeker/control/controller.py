@@ -181,6 +181,7 @@ PARAMS = (
 FRONTIER_MIN_UNSEEN = 6
 SAFETY_RESERVE_M = 0.03
 STALL_CELLS = 5
+STALL_APPROACH_M = 0.2
 DIRECT_GAP_M = 0.5
 STOP_ASIDE_STEP_DEG = 5.0
 """Stop points beside the straight approach are tried this far apart around the can (deg)."""
@@ -385,7 +386,7 @@ class Controller:
         self.goal_xy: Optional[np.ndarray] = None
         self.goal_is_candidate = False
         self.path_xy: Optional[np.ndarray] = None
-        self.progress: Optional[Tuple[int, float]] = None
+        self.progress: Optional[Tuple[int, float, float, Optional[np.ndarray]]] = None
         self.stop_aside: Optional[float] = None
 
     def observe(self, sighting: Optional[Sighting], now_s: float,
@@ -853,20 +854,28 @@ class Controller:
                 and abs(bearing) <= math.radians(self.config.bearing_tolerance_deg))
 
     def _note_progress(self, now_s: float) -> None:
-        """EXPLORE gives up its goal when the camera has covered fewer than
-        ``STALL_CELLS`` new cells in ``STALL_S`` (the goal cannot be seen from where the robot
-        can go, or the safety layer keeps it from getting there)."""
+        """EXPLORE gives up its goal when in ``STALL_S`` the camera has covered fewer than
+        ``STALL_CELLS`` new cells and, on the way to a place where the can may stand (which
+        lies across floor already covered), the robot has not come ``STALL_APPROACH_M``
+        nearer to it: the goal cannot be seen from where the robot can go, or the safety layer
+        keeps it from getting there."""
         if self.state is not State.EXPLORE:
             self.progress = None
             return
         covered = int(np.count_nonzero(self.navigator.grid.seen))
-        if self.progress is None or covered >= self.progress[0] + STALL_CELLS:
-            self.progress = (covered, now_s)
+        candidate = self.goal_xy if self.goal_is_candidate else None
+        distance = math.inf if candidate is None else self.navigator.distance_to(candidate)
+        if (self.progress is not None and candidate is not None
+                and not np.array_equal(candidate, self.progress[3])):
+            self.progress = (self.progress[0], self.progress[1], distance, candidate)
+        if (self.progress is None or covered >= self.progress[0] + STALL_CELLS
+                or (candidate is not None and distance <= self.progress[2] - STALL_APPROACH_M)):
+            self.progress = (covered, now_s, distance, candidate)
         elif elapsed_s(now_s, self.progress[1]) > STALL_S:
             if self.goal_xy is not None:
                 self.navigator.give_up_on(self.goal_xy)
             self.goal_xy = None
-            self.progress = (covered, now_s)
+            self.progress = (covered, now_s, math.inf, None)
 
     def command(self, now_s: float) -> Tuple[float, float]:
         """The (linear m/s, angular rad/s) command to send at ``now_s``.
