@@ -321,11 +321,9 @@ def test_with_a_lidar_exploration_heads_first_for_the_small_object_it_saw():
 
 def test_exploration_keeps_a_candidate_goal_while_the_robot_gets_nearer_over_covered_floor():
     controller = make_controller()
-    grid = controller.navigator.grid
-    grid.seen[:] = True
-    ix, iy = grid.cell_of(3.0, 0.0)
-    grid.seen[ix - 2:ix + 3, iy - 2:iy + 3] = False
+    controller.navigator.grid.seen[:] = True
     controller.navigator.candidates.append(np.array([3.0, 0.0]))
+    controller.navigator.candidates_viewed.append(False)
     controller.navigator.pose = Pose2D(0.0, 0.0, 0.0)
     assert controller.navigator.unviewed_candidate() is not None
     controller.state = State.EXPLORE

@@ -7,7 +7,7 @@ fixed rate):
   turn (odom yaw) without the can, EXPLORE.
 - EXPLORE: drive on grid paths to the nearest floor the camera has not covered yet (frontier
   exploration, :mod:`can_seeker.control.navigation`), but first to any small object standing
-  free that an all-round scan (a lidar) showed and the camera has not covered
+  free that an all-round scan (a lidar) showed and the camera has not had in view
   (:mod:`can_seeker.control.can_candidates`); at the goal, SEARCH again.
 - APPROACH: steer on the bearing, drive at a speed set by the gap error, slow down near the
   target so the acceleration limit can stop it without overshoot, back up if too close; while
@@ -667,11 +667,11 @@ class Controller:
 
     def _explore(self, now_s: float) -> Tuple[float, float]:
         """Head for the nearest place an all-round scan showed a small object standing free
-        that the camera has not covered (the can, maybe), else for the best floor not covered
-        yet; SEARCH again on arrival."""
+        that the camera has not had in view (the can, maybe), else for the best floor not
+        covered yet; SEARCH again on arrival."""
         navigator, config = self.navigator, self.config
         covered = (self.goal_xy is not None
-                   and (navigator.viewed(self.goal_xy) if self.goal_is_candidate
+                   and (navigator.candidate_viewed(self.goal_xy) if self.goal_is_candidate
                         else navigator.is_seen(self.goal_xy)))
         if (self.goal_xy is None or covered
                 or elapsed_s(now_s, self.planned_s) >= config.replan_period):

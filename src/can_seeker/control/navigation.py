@@ -23,6 +23,10 @@ GOAL_REACHED_M = 0.25
 LOOKAHEAD_M = 0.5
 MIN_LOOKAHEAD_M = 0.2
 CLEAR_AHEAD_M = 0.3
+CANDIDATE_REACH_M = 0.15
+"""Remembered obstacle cells this near a place where the can may stand are its own (the can,
+seen by the scans); they do not hide it from the camera, and giving up a goal this near
+gives up the place."""
 
 
 @dataclass(frozen=True)
@@ -88,13 +92,15 @@ class Navigator:
         self._pose: Optional[Pose2D] = None
         self.last_scans: Dict[str, Tuple[np.ndarray, Pose2D]] = {}
         self.candidates: List[np.ndarray] = []
+        self.candidates_viewed: List[bool] = []
 
     def reset(self) -> None:
         """Forget the map, the pose, the last scans and the places the can may stand."""
         self.grid.clear()
         self._pose = None
         self.last_scans = {}
-        self.candidates: List[np.ndarray] = []
+        self.candidates = []
+        self.candidates_viewed = []
 
     @property
     def pose(self) -> Optional[Pose2D]:
@@ -137,6 +143,25 @@ class Navigator:
         camera_xy = avoidance.from_frame(np.array((view.x, view.y)), pose.x, pose.y, pose.yaw)[0]
         self.grid.mark_seen(camera_xy, pose.yaw + view.yaw, view.half_fov_rad, view.near_m,
                             view.far_m)
+        for index, point in enumerate(self.candidates):
+            if not self.candidates_viewed[index] and self._in_view(point, camera_xy,
+                                                                   pose.yaw + view.yaw, view):
+                self.candidates_viewed[index] = True
+
+    def _in_view(self, point: np.ndarray, camera_xy: np.ndarray, heading_rad: float,
+                 view: CameraView) -> bool:
+        """True when a can standing at odom ``point`` is in the camera's view: within its
+        field of view, from ``near_m`` (its top enters the bottom row) to ``far_m``, with no
+        remembered obstacle on the line of sight short of ``CANDIDATE_REACH_M`` from it."""
+        offset = point - camera_xy
+        distance = float(np.hypot(*offset))
+        bearing = avoidance.wrap_angle(math.atan2(offset[1], offset[0]) - heading_rad)
+        if not (view.near_m <= distance <= view.far_m and abs(bearing) <= view.half_fov_rad):
+            return False
+        along = np.arange(0.0, max(0.0, distance - CANDIDATE_REACH_M),
+                          self.grid.resolution_m / 2.0)
+        ix, iy, inside = self.grid.index_of(camera_xy + along[:, None] * offset / distance)
+        return not bool(self.grid.occupied()[ix[inside], iy[inside]].any())
 
     @property
     def cell_spread_m(self) -> float:
@@ -327,31 +352,37 @@ class Navigator:
             if all(np.linalg.norm(point - known) > self.grid.resolution_m
                    for known in self.candidates):
                 self.candidates.append(point)
+                self.candidates_viewed.append(self.grid.cell_of(*point) is None)
 
-    def viewed(self, xy: Sequence[float]) -> bool:
-        """True when the camera has covered the cell of odom point ``xy`` or one next to it
-        (an object's own cell may stay uncovered: coverage stops at the first obstacle)."""
-        cell = self.grid.cell_of(xy[0], xy[1])
-        if cell is None:
-            return True
-        return bool(self.grid.seen[max(0, cell[0] - 1):cell[0] + 2,
-                                   max(0, cell[1] - 1):cell[1] + 2].any())
+    def candidate_viewed(self, xy: Sequence[float]) -> bool:
+        """True when the camera has had the remembered place ``xy`` in view (see
+        :meth:`mark_seen`), or it is no remembered place."""
+        for point, viewed in zip(self.candidates, self.candidates_viewed):
+            if np.array_equal(point, xy):
+                return viewed
+        return True
 
     def unviewed_candidate(self) -> Optional[np.ndarray]:
         """The nearest place an all-round scan showed a small free-standing object (see
-        :mod:`can_seeker.control.can_candidates`) that the camera has not covered, or None."""
+        :mod:`can_seeker.control.can_candidates`) that the camera has not had in view, or
+        None."""
         if self.pose is None:
             return None
-        waiting = [point for point in self.candidates if not self.viewed(point)]
+        waiting = [point for point, viewed in zip(self.candidates, self.candidates_viewed)
+                   if not viewed]
         if not waiting:
             return None
         return min(waiting, key=self.distance_to)
 
     def give_up_on(self, xy: Sequence[float]) -> None:
-        """Count the cells around an unreachable goal as seen, so exploration moves on."""
+        """Count the cells around an unreachable goal as seen, and any place the can may stand
+        there as viewed, so exploration moves on."""
         cell = self.grid.cell_of(xy[0], xy[1])
         if cell is not None:
             self.grid.seen[max(0, cell[0] - 2):cell[0] + 3, max(0, cell[1] - 2):cell[1] + 3] = True
+        for index, point in enumerate(self.candidates):
+            if np.linalg.norm(point - np.asarray(xy, float)) <= CANDIDATE_REACH_M:
+                self.candidates_viewed[index] = True
 
     def straight_line_blocked(self, goal_xy: Sequence[float], exclude_xy=None,
                               exclude_radius_m: float = 0.0) -> bool:
