@@ -338,6 +338,38 @@ def test_exploration_keeps_a_candidate_goal_while_the_robot_gets_nearer_over_cov
     assert controller.navigator.unviewed_candidate() is None
 
 
+def test_a_place_chosen_after_stalled_floor_gets_its_own_stall_time():
+    controller = make_controller()
+    controller.navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    controller.state = State.EXPLORE
+    controller.goal_xy = np.array([1.0, 1.0])                # floor; nothing new seen for 5 s
+    for step in range(100):
+        controller._note_progress(0.05 * step)
+    controller.navigator.candidates.append(np.array([3.0, 0.0]))
+    controller.navigator.candidates_viewed.append(False)
+    controller.goal_xy, controller.goal_is_candidate = np.array([3.0, 0.0]), True
+    for step in range(100, 200):                              # 5 s more, standing
+        controller._note_progress(0.05 * step)
+    assert controller.goal_xy is not None
+    assert controller.navigator.unviewed_candidate() is not None
+
+
+def test_arriving_at_a_place_where_the_can_may_stand_counts_it_as_looked_at():
+    controller = make_controller()
+    navigator = controller.navigator
+    navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    navigator.candidates.append(np.array([0.2, 0.0]))
+    navigator.candidates_viewed.append(False)
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe_scan(controller.scan_sources[0], np.array([[2.0, 0.0]]), np.array([False]),
+                            (0.0, 0.0), 0.0)
+    controller.observe(None, 0.0)
+    controller.state = State.EXPLORE
+    controller.command(0.0)
+    assert controller.state is State.SEARCH
+    assert navigator.unviewed_candidate() is None
+
+
 def test_approach_goes_around_an_obstacle_between_robot_and_can():
     world = World(3.0, [(1.0, 0.0, 0.3)], (2.2, 0.0))
     controller = make_controller()

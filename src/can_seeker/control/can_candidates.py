@@ -56,10 +56,10 @@ def small_objects(ends_xy: np.ndarray, hits: np.ndarray, origin_xy) -> List[np.n
                and np.linalg.norm(ends_xy[end + 1] - ends_xy[end]) < JOIN_M):
             end += 1
         width = float(np.linalg.norm(ends_xy[end] - ends_xy[start]))
-        nearest = float(ranges[start:end + 1].max())
+        farthest = float(ranges[start:end + 1].max())
         sides = [index for index in (start - 1, end + 1) if 0 <= index < count]
         free = len(sides) == 2 and all(
-            not hits[index] or ranges[index] > nearest + STANDS_OUT_M for index in sides)
+            not hits[index] or ranges[index] > farthest + STANDS_OUT_M for index in sides)
         if width <= MAX_WIDTH_M and free:
             centre = ends_xy[start:end + 1].mean(axis=0)
             away = (centre - origin) / max(float(np.linalg.norm(centre - origin)), 1e-9)

@@ -668,7 +668,8 @@ class Controller:
     def _explore(self, now_s: float) -> Tuple[float, float]:
         """Head for the nearest place an all-round scan showed a small object standing free
         that the camera has not had in view (the can, maybe), else for the best floor not
-        covered yet; SEARCH again on arrival."""
+        covered yet; SEARCH again on arrival (a place where the can may stand then counts as
+        looked at: on the way a can there would have come into view)."""
         navigator, config = self.navigator, self.config
         covered = (self.goal_xy is not None
                    and (navigator.candidate_viewed(self.goal_xy) if self.goal_is_candidate
@@ -685,6 +686,8 @@ class Controller:
                 self._enter(State.SEARCH)
                 return 0.0, self.turn_sign * config.search_angular
         if navigator.distance_to(self.goal_xy) < GOAL_REACHED_M:
+            if self.goal_is_candidate:
+                navigator.give_up_on(self.goal_xy)
             self._enter(State.SEARCH)
             return 0.0, self.turn_sign * config.search_angular
         command = self._follow_path(self.goal_xy, now_s,
@@ -858,7 +861,9 @@ class Controller:
         ``STALL_CELLS`` new cells and, on the way to a place where the can may stand (which
         lies across floor already covered), the robot has not come ``STALL_APPROACH_M``
         nearer to it: the goal cannot be seen from where the robot can go, or the safety layer
-        keeps it from getting there."""
+        keeps it from getting there. Such a place chosen after floor, or after a place now
+        looked at, has its own ``STALL_S`` (not when the robot switches between two places it
+        has not looked at yet, which would never run out)."""
         if self.state is not State.EXPLORE:
             self.progress = None
             return
@@ -867,7 +872,10 @@ class Controller:
         distance = math.inf if candidate is None else self.navigator.distance_to(candidate)
         if (self.progress is not None and candidate is not None
                 and not np.array_equal(candidate, self.progress[3])):
-            self.progress = (self.progress[0], self.progress[1], distance, candidate)
+            previous = self.progress[3]
+            fresh = previous is None or self.navigator.candidate_viewed(previous)
+            self.progress = (self.progress[0], now_s if fresh else self.progress[1], distance,
+                             candidate)
         if (self.progress is None or covered >= self.progress[0] + STALL_CELLS
                 or (candidate is not None and distance <= self.progress[2] - STALL_APPROACH_M)):
             self.progress = (covered, now_s, distance, candidate)

@@ -23,10 +23,6 @@ GOAL_REACHED_M = 0.25
 LOOKAHEAD_M = 0.5
 MIN_LOOKAHEAD_M = 0.2
 CLEAR_AHEAD_M = 0.3
-CANDIDATE_REACH_M = 0.15
-"""Remembered obstacle cells this near a place where the can may stand are its own (the can,
-seen by the scans); they do not hide it from the camera, and giving up a goal this near
-gives up the place."""
 
 
 @dataclass(frozen=True)
@@ -89,6 +85,11 @@ class Navigator:
         self.robot_radius_m = robot_radius_m
         self.plan_margin_m = plan_margin_m
         self.safety_margin_m = safety_margin_m
+        self.candidate_reach_m = can_candidates.MAX_WIDTH_M / 2.0 + resolution_m * math.sqrt(2.0)
+        """Remembered obstacle cells reaching this near a place where the can may stand may be
+        its own (the scans' returns from the can, each within half the widest run of the place,
+        in a cell up to a diagonal across): they do not hide it from the camera. Giving up a
+        goal this near gives up the place."""
         self._pose: Optional[Pose2D] = None
         self.last_scans: Dict[str, Tuple[np.ndarray, Pose2D]] = {}
         self.candidates: List[np.ndarray] = []
@@ -152,13 +153,13 @@ class Navigator:
                  view: CameraView) -> bool:
         """True when a can standing at odom ``point`` is in the camera's view: within its
         field of view, from ``near_m`` (its top enters the bottom row) to ``far_m``, with no
-        remembered obstacle on the line of sight short of ``CANDIDATE_REACH_M`` from it."""
+        remembered obstacle on the line of sight short of :attr:`candidate_reach_m` from it."""
         offset = point - camera_xy
         distance = float(np.hypot(*offset))
         bearing = avoidance.wrap_angle(math.atan2(offset[1], offset[0]) - heading_rad)
         if not (view.near_m <= distance <= view.far_m and abs(bearing) <= view.half_fov_rad):
             return False
-        along = np.arange(0.0, max(0.0, distance - CANDIDATE_REACH_M),
+        along = np.arange(0.0, max(0.0, distance - self.candidate_reach_m),
                           self.grid.resolution_m / 2.0)
         ix, iy, inside = self.grid.index_of(camera_xy + along[:, None] * offset / distance)
         return not bool(self.grid.occupied()[ix[inside], iy[inside]].any())
@@ -381,7 +382,7 @@ class Navigator:
         if cell is not None:
             self.grid.seen[max(0, cell[0] - 2):cell[0] + 3, max(0, cell[1] - 2):cell[1] + 3] = True
         for index, point in enumerate(self.candidates):
-            if np.linalg.norm(point - np.asarray(xy, float)) <= CANDIDATE_REACH_M:
+            if np.linalg.norm(point - np.asarray(xy, float)) <= self.candidate_reach_m:
                 self.candidates_viewed[index] = True
 
     def straight_line_blocked(self, goal_xy: Sequence[float], exclude_xy=None,
