@@ -93,7 +93,12 @@ class GridMap:
 
     def occupied(self) -> np.ndarray:
         """Cells with more evidence of an obstacle than of free floor."""
-        return self.evidence > 0
+        return self.occupied_at(slice(None), slice(None))
+
+    def occupied_at(self, ix, iy) -> np.ndarray:
+        """:meth:`occupied` at the cells indexed by ``ix``, ``iy`` only (a few cells, without
+        comparing the whole grid)."""
+        return self.evidence[ix, iy] > 0
 
     def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
                  clear_from_m: float = 0.0, stamp_s: float = 0.0, source: str = '') -> None:

@@ -162,7 +162,7 @@ class Navigator:
         along = np.arange(0.0, max(0.0, distance - self.candidate_reach_m),
                           self.grid.resolution_m / 2.0)
         ix, iy, inside = self.grid.index_of(camera_xy + along[:, None] * offset / distance)
-        return not bool(self.grid.occupied()[ix[inside], iy[inside]].any())
+        return not bool(self.grid.occupied_at(ix[inside], iy[inside]).any())
 
     @property
     def cell_spread_m(self) -> float:
