@@ -269,6 +269,41 @@ def test_a_robot_within_the_plan_margin_leaves_it_and_keeps_it_on_the_way():
     assert np.all(clearance_of(path[beyond_start], wall) >= 0.165 + 0.15 - 1e-6)
 
 
+def side_of(path_xy):
+    """+1 when a path passes the obstacle at y = 0 on its left (y > 0), -1 on its right."""
+    return int(np.sign(np.asarray(path_xy)[:, 1].sum()))
+
+
+DISC = np.array([(1.0 + 0.3 * math.cos(a), 0.3 * math.sin(a))
+                 for a in np.linspace(0.0, 2.0 * math.pi, 60)])
+
+
+def test_a_path_about_an_obstacle_is_kept_while_the_other_way_is_hardly_shorter():
+    """Two ways about a round obstacle of about the same length: once the robot follows one,
+    a plan from a pose where the other is a little shorter keeps the first. Choosing afresh
+    at every plan, the robot turned to each way in turn and went neither."""
+    first = wall_navigator(DISC, Pose2D(0.0, 0.0, 0.0)).path_to((2.0, 0.0))
+    side = side_of(first)
+    navigator = wall_navigator(DISC, Pose2D(0.0, -0.1 * side, 0.0))
+    assert side_of(navigator.path_to((2.0, 0.0))) == -side
+    kept = navigator.path_to((2.0, 0.0), previous_xy=first)
+    assert side_of(kept) == side
+    assert np.allclose(kept[-1], first[-1])
+
+
+def test_a_kept_path_gives_way_when_blocked_or_much_longer_or_to_another_goal():
+    first = wall_navigator(DISC, Pose2D(0.0, 0.0, 0.0)).path_to((2.0, 0.0))
+    side = side_of(first)
+    wall = np.array([(1.0, side * y) for y in np.arange(0.3, 3.0, 0.05)])
+    blocked = wall_navigator(np.vstack((DISC, wall)), Pose2D(0.0, 0.0, 0.0))
+    assert side_of(blocked.path_to((2.0, 0.0), previous_xy=first)) == -side
+    far_side = wall_navigator(DISC, Pose2D(0.0, -0.6 * side, 0.0))
+    assert side_of(far_side.path_to((2.0, 0.0), previous_xy=first)) == -side
+    other_goal = wall_navigator(DISC, Pose2D(0.0, 0.0, 0.0)).path_to((2.0, 0.5),
+                                                                      previous_xy=first)
+    assert np.linalg.norm(other_goal[-1] - (2.0, 0.5)) < 0.1
+
+
 # Controller ----------------------------------------------------------------------------------
 
 OBSTACLES = [(1.2, 1.2, 0.25), (-1.0, 1.0, 0.2), (0.8, -1.4, 0.3), (-1.5, -1.0, 0.25),

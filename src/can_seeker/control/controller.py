@@ -654,7 +654,8 @@ class Controller:
         None when no path reaches it."""
         config = self.config
         if self.path_xy is None or elapsed_s(now_s, self.planned_s) >= config.replan_period:
-            self.path_xy = self.navigator.path_to(goal_xy, exclude_xy, config.can_exclusion_radius)
+            self.path_xy = self.navigator.path_to(goal_xy, exclude_xy, config.can_exclusion_radius,
+                                                  self.path_xy)
             self.planned_s = now_s
         if self.path_xy is None:
             return None
@@ -676,11 +677,14 @@ class Controller:
                         else navigator.is_seen(self.goal_xy)))
         if (self.goal_xy is None or covered
                 or elapsed_s(now_s, self.planned_s) >= config.replan_period):
+            previous_goal = self.goal_xy
             self.goal_xy = navigator.unviewed_candidate()
             self.goal_is_candidate = self.goal_xy is not None
             if self.goal_xy is None:
                 self.goal_xy = navigator.frontier(config.explore_turn_cost, FRONTIER_MIN_UNSEEN)
-            self.path_xy = None
+            if (self.goal_xy is None or previous_goal is None
+                    or not np.array_equal(self.goal_xy, previous_goal)):
+                self.path_xy = None
             if self.goal_xy is None:
                 navigator.grid.forget_coverage()
                 self._enter(State.SEARCH)

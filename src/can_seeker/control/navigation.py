@@ -23,6 +23,10 @@ GOAL_REACHED_M = 0.25
 LOOKAHEAD_M = 0.5
 MIN_LOOKAHEAD_M = 0.2
 CLEAR_AHEAD_M = 0.3
+PATH_SWITCH_M = 0.5
+"""A new path replaces a still clear one to the same goal only when it is this much shorter
+(m): two ways about an obstacle of about the same length would otherwise take turns as the map
+changes, and a robot turning to each in turn would go neither."""
 
 
 @dataclass(frozen=True)
@@ -306,9 +310,12 @@ class Navigator:
                                                              self.cell_margin_m))))
 
     def path_to(self, goal_xy: Sequence[float], exclude_xy=None,
-                exclude_radius_m: float = 0.0) -> Optional[np.ndarray]:
+                exclude_radius_m: float = 0.0,
+                previous_xy: Optional[np.ndarray] = None) -> Optional[np.ndarray]:
         """Odom points of a grid path from the robot to ``goal_xy``, or None if unreachable
-        (with each of :attr:`plan_margins_m` in turn)."""
+        (with each of :attr:`plan_margins_m` in turn). The rest of ``previous_xy``, the path
+        followed so far, is kept while it still ends in the goal's cell, crosses no blocked
+        cell and is at most :data:`PATH_SWITCH_M` longer than the new path."""
         goal = self.grid.cell_of(goal_xy[0], goal_xy[1])
         if self.pose is None or goal is None:
             return None
@@ -316,12 +323,37 @@ class Navigator:
             plan = self._plan(goal, exclude_xy, exclude_radius_m, margin_m)
             if plan is None:
                 return None
-            window, _, distance = plan
+            window, blocked, distance = plan
             local_goal = window.local(goal)
             if np.isfinite(distance[local_goal]):
+                kept = self._rest_if_clear(previous_xy, goal, window, blocked)
+                if kept is not None and (self._length_from_robot(kept)
+                                         <= distance[local_goal] * self.grid.resolution_m
+                                         + PATH_SWITCH_M):
+                    return kept
                 cells = [window.grid(cell) for cell in planner.descend(distance, local_goal)]
                 return self.grid.centre_of(*np.array(cells).T).reshape(-1, 2)
         return None
+
+    def _rest_if_clear(self, path_xy: Optional[np.ndarray], goal: Tuple[int, int],
+                       window: planner.Window, blocked: np.ndarray) -> Optional[np.ndarray]:
+        """The part of ``path_xy`` from its point nearest the robot on, if the path ends in
+        cell ``goal`` and that part crosses no ``blocked`` cell of ``window``; else None."""
+        if path_xy is None or len(path_xy) == 0 or self.grid.cell_of(*path_xy[-1]) != goal:
+            return None
+        nearest = int(np.argmin(np.linalg.norm(path_xy - (self.pose.x, self.pose.y), axis=1)))
+        rest = path_xy[nearest:]
+        ix, iy, inside = self.grid.index_of(rest)
+        lx, ly = ix - window.x0, iy - window.y0
+        if not inside.all() or np.any((lx < 0) | (ly < 0) | (lx >= blocked.shape[0])
+                                      | (ly >= blocked.shape[1])):
+            return None
+        return None if blocked[lx, ly].any() else rest
+
+    def _length_from_robot(self, path_xy: np.ndarray) -> float:
+        """Length (m) from the robot along ``path_xy``."""
+        legs = np.diff(np.vstack(((self.pose.x, self.pose.y), path_xy)), axis=0)
+        return float(np.hypot(legs[:, 0], legs[:, 1]).sum())
 
     def frontier(self, turn_cost_m_per_rad: float, min_unseen_cells: int) -> Optional[np.ndarray]:
         """Odom centre of the best exploration goal (see :func:`planner.frontier_goal`), with
