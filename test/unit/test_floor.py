@@ -247,6 +247,37 @@ def test_a_wall_with_one_tiles_hue_and_the_others_brightness_is_an_obstacle():
     assert box_recall_and_false_rate(apart.classify(image))[0] < 0.1
 
 
+def test_a_pinkish_grey_wall_on_a_greenish_grey_floor_is_an_obstacle():
+    """Random looks, seed 3231: a checker of greenish greys (saturation about 55 of 255) and a
+    pinkish grey wall (saturation 24) as bright as the light tile. Noise drops some floor pixels
+    under the saturation at which hue is judged finely; as "grey" they taught the model the
+    wall's bin, and the robot drove into the wall. Judged on the faint colours' coarse hue bins,
+    the wall is pink and the floor green."""
+    light, dark, wall = (92, 104, 80), (75, 84, 65), (96, 96, 106)
+    faint = FloorClassifier(FloorSettings(min_faint_saturation=16))
+    grey = FloorClassifier(FloorSettings(min_faint_saturation=50))
+    for step in range(10):
+        for classifier in (faint, grey):
+            classifier.classify(_checker(light, dark, offset_px=4 * step, seed=step))
+    image = with_box(_checker(light, dark, offset_px=40, seed=11), wall)
+    recall, false_rate = box_recall_and_false_rate(faint.classify(image))
+    assert recall > 0.98 and false_rate < 0.002
+    assert box_recall_and_false_rate(grey.classify(image))[0] < 0.1
+
+
+@pytest.mark.parametrize('floor', [(128, 128, 128), (60, 62, 58), (200, 196, 204)])
+def test_a_noisy_grey_floor_is_floor_whatever_hue_its_noise_gives_faint_pixels(floor):
+    """Noise gives the pixels of a neutral floor faint colours of every hue: the model learns
+    them all from the reference area, so none is an obstacle, and a box of a clear colour
+    still is."""
+    classifier = FloorClassifier()
+    for seed in range(5):
+        classifier.classify(floor_image(floor, sigma=6.0, seed=seed))
+    recall, false_rate = box_recall_and_false_rate(
+        classifier.classify(with_box(floor_image(floor, sigma=6.0, seed=9), (40, 140, 200))))
+    assert recall > 0.98 and false_rate < 0.002
+
+
 def test_the_lens_fall_off_is_undone_before_a_dark_box_of_the_floors_hue_is_judged():
     """A tan floor seen through a 40 % fall-off teaches the model every brightness down to 60 %
     of its own; a tan box at 65 % of the floor's brightness passes as floor unless the fall-off

@@ -55,12 +55,16 @@ from can_seeker.vision.white_balance import WhiteBalanceLock
 FLOOR_MODELS = ('adaptive', 'dark')
 
 HUE_BINS = 30
-"""Colour histogram bins over OpenCV's hue (0-179): 12 degrees each; bin HUE_BINS is grey."""
-GREY_BIN = HUE_BINS
+"""Colour histogram bins over OpenCV's hue (0-179): 12 degrees each."""
+FAINT_HUE_BINS = 12
+"""Bins over the hue of faintly coloured pixels (see ``~min_faint_saturation``): 30 degrees
+each, after the HUE_BINS; the bin after them is grey."""
+GREY_BIN = HUE_BINS + FAINT_HUE_BINS
 VALUE_BINS = 32
 """Intensity histogram bins over HSV value 0-255: 8 grey levels each."""
 CHROMA_SATURATION_MIN = 50
-"""Pixels less saturated than this (0-255) have no reliable hue: they count as grey."""
+"""Pixels less saturated than this (0-255) have a hue the fine bins cannot trust: they count as
+faintly coloured, or grey (see ``~min_faint_saturation``)."""
 CHROMA_VALUE_MIN = 40
 """Pixels darker than this (0-255) have no reliable hue: they count as grey."""
 BIN_TOLERANCE = 1
@@ -112,6 +116,10 @@ FLOOR_PARAMS = (
           'of the floor model is an obstacle, even when its colour and its intensity are each '
           'common on the floor: on a floor of two tiles, a wall with the hue of one and the '
           'brightness of the other (1; 0 = off)', 0.0, 1.0),
+    Param('min_faint_saturation', 16, 'pixels at least this saturated (HSV, 0-255) but less '
+          'than 50 have a faint colour, judged on coarse hue bins of 30 degrees, so a pinkish '
+          'grey wall is no greenish grey floor; less saturated pixels are grey (50 = faint '
+          'colours are grey too)', 0, 50),
     Param('max_vignetting', 0.7, 'largest lens fall-off the floor model estimates from the '
           'images and undoes before classifying: brightness lost in the image corners (1, '
           'fraction; an estimate under 0.05 leaves the image alone; 0 = off)', 0.0, 0.9),
@@ -135,6 +143,7 @@ class FloorSettings:
     min_obstacle_area: float = 0.001
     max_colour_shift: float = 0.0
     min_joint_fraction: float = 0.002
+    min_faint_saturation: int = 16
     max_vignetting: float = 0.7
     min_edge_contrast: float = 1.5
 
@@ -156,12 +165,13 @@ def reference_trapezoid(width: int, height: int, height_fraction: float) -> np.n
                     np.float64).round().astype(np.int32)
 
 
-def _hue_bin_lut() -> np.ndarray:
+def _hue_bin_lut(bins: int, first: int = 0) -> np.ndarray:
     hues = np.arange(256)
-    return np.where(hues < 180, hues * HUE_BINS // 180, 0).astype(np.uint8)
+    return (first + np.where(hues < 180, hues * bins // 180, 0)).astype(np.uint8)
 
 
-HUE_BIN_LUT = _hue_bin_lut()
+HUE_BIN_LUT = _hue_bin_lut(HUE_BINS)
+FAINT_HUE_BIN_LUT = _hue_bin_lut(FAINT_HUE_BINS, HUE_BINS)
 VALUE_BIN_LUT = (np.arange(256) * VALUE_BINS // 256).astype(np.uint8)
 
 
@@ -184,9 +194,10 @@ def _joint_neighbourhood(model: np.ndarray) -> np.ndarray:
     along_value = cv2.boxFilter(model, -1, (2 * JOINT_VALUE_TOLERANCE + 1, 1), normalize=False,
                                 borderType=cv2.BORDER_CONSTANT)
     summed = along_value.copy()
-    hues = along_value[:HUE_BINS]
-    for shift in range(1, JOINT_HUE_TOLERANCE + 1):
-        summed[:HUE_BINS] += np.roll(hues, shift, axis=0) + np.roll(hues, -shift, axis=0)
+    for rows in (slice(0, HUE_BINS), slice(HUE_BINS, GREY_BIN)):
+        hues = along_value[rows]
+        for shift in range(1, JOINT_HUE_TOLERANCE + 1):
+            summed[rows] += np.roll(hues, shift, axis=0) + np.roll(hues, -shift, axis=0)
     return summed
 
 
@@ -244,14 +255,15 @@ class FloorClassifier:
             raw[ignore > 0] = 0
         return self._obstacle_regions(raw, bgr)
 
-    @staticmethod
-    def _features(bgr):
+    def _features(self, bgr):
         """Image of (colour bin, intensity bin) indices, colour * VALUE_BINS + intensity
         (uint16), of ``bgr``."""
         hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
         hue, saturation, value = cv2.split(hsv)
         colour = cv2.LUT(hue, HUE_BIN_LUT)
-        grey = (saturation < CHROMA_SATURATION_MIN) | (value < CHROMA_VALUE_MIN)
+        faint = saturation < CHROMA_SATURATION_MIN
+        colour[faint] = cv2.LUT(hue, FAINT_HUE_BIN_LUT)[faint]
+        grey = (saturation < self.settings.min_faint_saturation) | (value < CHROMA_VALUE_MIN)
         colour[grey] = GREY_BIN
         return colour.astype(np.uint16) * VALUE_BINS + cv2.LUT(value, VALUE_BIN_LUT)
 
@@ -300,6 +312,8 @@ class FloorClassifier:
         colour_model = self.model.sum(axis=1)
         colour_floor = np.empty(GREY_BIN + 1, bool)
         colour_floor[:HUE_BINS] = _tolerant(colour_model[:HUE_BINS] >= threshold, True)
+        colour_floor[HUE_BINS:GREY_BIN] = _tolerant(colour_model[HUE_BINS:GREY_BIN] >= threshold,
+                                                    True)
         colour_floor[GREY_BIN] = colour_model[GREY_BIN] >= threshold
         value_floor = _tolerant(self.model.sum(axis=0) >= threshold, False)
         floor = colour_floor[:, None] & value_floor[None, :]
