@@ -60,6 +60,10 @@ FAINT_HUE_BINS = 12
 """Bins over the hue of faintly coloured pixels (see ``~min_faint_saturation``): 30 degrees
 each, after the HUE_BINS; the bin after them is grey."""
 GREY_BIN = HUE_BINS + FAINT_HUE_BINS
+FAINT_MAX_GREY_SHARE = 0.25
+"""Faint colours are judged by their hue only while less than this share of the floor model is
+grey: on a grey floor, noise and a drifting white balance give the floor's own pixels faint
+colours of any hue, so there they count as grey."""
 VALUE_BINS = 32
 """Intensity histogram bins over HSV value 0-255: 8 grey levels each."""
 CHROMA_SATURATION_MIN = 50
@@ -307,18 +311,27 @@ class FloorClassifier:
 
     def _obstacle_pixels(self, features):
         """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model, or
-        (with ~min_joint_fraction) the pair of them."""
+        (with ~min_joint_fraction) the pair of them. Faint colours count as grey while
+        :data:`FAINT_MAX_GREY_SHARE` of the floor is grey."""
         threshold = self.settings.min_bin_fraction
-        colour_model = self.model.sum(axis=1)
+        model = self.model
+        faint_as_grey = model[GREY_BIN].sum() >= FAINT_MAX_GREY_SHARE
+        if faint_as_grey:
+            model = model.copy()
+            model[GREY_BIN] += model[HUE_BINS:GREY_BIN].sum(axis=0)
+            model[HUE_BINS:GREY_BIN] = 0.0
+        colour_model = model.sum(axis=1)
         colour_floor = np.empty(GREY_BIN + 1, bool)
         colour_floor[:HUE_BINS] = _tolerant(colour_model[:HUE_BINS] >= threshold, True)
         colour_floor[HUE_BINS:GREY_BIN] = _tolerant(colour_model[HUE_BINS:GREY_BIN] >= threshold,
                                                     True)
         colour_floor[GREY_BIN] = colour_model[GREY_BIN] >= threshold
-        value_floor = _tolerant(self.model.sum(axis=0) >= threshold, False)
+        value_floor = _tolerant(model.sum(axis=0) >= threshold, False)
         floor = colour_floor[:, None] & value_floor[None, :]
         if self.settings.min_joint_fraction > 0.0:
-            floor &= _joint_neighbourhood(self.model) >= self.settings.min_joint_fraction
+            floor &= _joint_neighbourhood(model) >= self.settings.min_joint_fraction
+        if faint_as_grey:
+            floor[HUE_BINS:GREY_BIN] = floor[GREY_BIN]
         return np.take(np.where(floor.ravel(), 0, 255).astype(np.uint8), features)
 
     def _update_model(self, features, raw, reference):
