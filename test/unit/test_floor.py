@@ -270,7 +270,7 @@ def test_a_noisy_grey_floor_is_floor_whatever_hue_its_noise_gives_faint_pixels(f
     """Noise gives the pixels of a neutral floor faint colours of every hue: the model learns
     them all from the reference area, so none is an obstacle, and a box of a clear colour
     still is."""
-    classifier = FloorClassifier()
+    classifier = FloorClassifier(FloorSettings(min_faint_saturation=16))
     for seed in range(5):
         classifier.classify(floor_image(floor, sigma=6.0, seed=seed))
     recall, false_rate = box_recall_and_false_rate(
@@ -283,7 +283,7 @@ def test_a_grey_floor_whose_white_balance_drifts_to_a_faint_colour_stays_floor()
     blues within seconds. Judged by hue, every such tile became an obstacle (bench_floor, harsh
     2000-2009: phantom bins 16 % -> 47 %); on a floor that is mostly grey faint colours count as
     grey."""
-    classifier = FloorClassifier()
+    classifier = FloorClassifier(FloorSettings(min_faint_saturation=16))
     for seed in range(5):
         classifier.classify(floor_image((140, 140, 140), sigma=2.0, seed=seed))
     for gains in ((0.9, 1.0, 1.1), (1.1, 1.0, 0.9)):

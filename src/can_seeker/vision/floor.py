@@ -120,7 +120,7 @@ FLOOR_PARAMS = (
           'of the floor model is an obstacle, even when its colour and its intensity are each '
           'common on the floor: on a floor of two tiles, a wall with the hue of one and the '
           'brightness of the other (1; 0 = off)', 0.0, 1.0),
-    Param('min_faint_saturation', 16, 'pixels at least this saturated (HSV, 0-255) but less '
+    Param('min_faint_saturation', 50, 'pixels at least this saturated (HSV, 0-255) but less '
           'than 50 have a faint colour, judged on coarse hue bins of 30 degrees, so a pinkish '
           'grey wall is no greenish grey floor; less saturated pixels are grey (50 = faint '
           'colours are grey too)', 0, 50),
@@ -147,7 +147,7 @@ class FloorSettings:
     min_obstacle_area: float = 0.001
     max_colour_shift: float = 0.0
     min_joint_fraction: float = 0.002
-    min_faint_saturation: int = 16
+    min_faint_saturation: int = 50
     max_vignetting: float = 0.7
     min_edge_contrast: float = 1.5
 
