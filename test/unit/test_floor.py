@@ -232,19 +232,23 @@ def test_an_obstacle_filling_the_reference_area_does_not_move_the_white_balance(
         assert not mask[bottom + 2:].any()
 
 
+def wall_on_checker(first_bgr, second_bgr, wall_bgr, settings):
+    """(recall, false rate) of a wall box on a two-tile checker, for a classifier with
+    ``settings`` that has driven over the checker for 10 frames."""
+    classifier = FloorClassifier(settings)
+    for step in range(10):
+        classifier.classify(_checker(first_bgr, second_bgr, offset_px=4 * step, seed=step))
+    image = with_box(_checker(first_bgr, second_bgr, offset_px=40, seed=11), wall_bgr)
+    return box_recall_and_false_rate(classifier.classify(image))
+
+
 def test_a_wall_with_one_tiles_hue_and_the_others_brightness_is_an_obstacle():
     """On a floor of a bright tan tile and a mid-grey one, a tan wall as dark as the grey tile
     has a common hue and a common brightness: only the pair of them is new to the floor."""
     tan, grey, wall = (150, 200, 235), (150, 150, 150), (95, 125, 150)
-    joint = FloorClassifier(FloorSettings(min_joint_fraction=0.002))
-    apart = FloorClassifier(FloorSettings(min_joint_fraction=0.0))
-    for step in range(10):
-        for classifier in (joint, apart):
-            classifier.classify(_checker(tan, grey, offset_px=4 * step, seed=step))
-    image = with_box(_checker(tan, grey, offset_px=40, seed=11), wall)
-    recall, false_rate = box_recall_and_false_rate(joint.classify(image))
+    recall, false_rate = wall_on_checker(tan, grey, wall, FloorSettings(min_joint_fraction=0.002))
     assert recall > 0.98 and false_rate < 0.002
-    assert box_recall_and_false_rate(apart.classify(image))[0] < 0.1
+    assert wall_on_checker(tan, grey, wall, FloorSettings(min_joint_fraction=0.0))[0] < 0.1
 
 
 def test_a_pinkish_grey_wall_on_a_greenish_grey_floor_is_an_obstacle():
@@ -254,15 +258,10 @@ def test_a_pinkish_grey_wall_on_a_greenish_grey_floor_is_an_obstacle():
     wall's bin, and the robot drove into the wall. Judged on the faint colours' coarse hue bins,
     the wall is pink and the floor green."""
     light, dark, wall = (92, 104, 80), (75, 84, 65), (96, 96, 106)
-    faint = FloorClassifier(FloorSettings(min_faint_saturation=16))
-    grey = FloorClassifier(FloorSettings(min_faint_saturation=50))
-    for step in range(10):
-        for classifier in (faint, grey):
-            classifier.classify(_checker(light, dark, offset_px=4 * step, seed=step))
-    image = with_box(_checker(light, dark, offset_px=40, seed=11), wall)
-    recall, false_rate = box_recall_and_false_rate(faint.classify(image))
+    recall, false_rate = wall_on_checker(light, dark, wall,
+                                         FloorSettings(min_faint_saturation=16))
     assert recall > 0.98 and false_rate < 0.002
-    assert box_recall_and_false_rate(grey.classify(image))[0] < 0.1
+    assert wall_on_checker(light, dark, wall, FloorSettings(min_faint_saturation=50))[0] < 0.1
 
 
 @pytest.mark.parametrize('floor', [(128, 128, 128), (60, 62, 58), (200, 196, 204)])
