@@ -265,8 +265,9 @@ class FloorClassifier:
         hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
         hue, saturation, value = cv2.split(hsv)
         colour = cv2.LUT(hue, HUE_BIN_LUT)
-        faint = saturation < CHROMA_SATURATION_MIN
-        colour[faint] = cv2.LUT(hue, FAINT_HUE_BIN_LUT)[faint]
+        if self.settings.min_faint_saturation < CHROMA_SATURATION_MIN:
+            faint = saturation < CHROMA_SATURATION_MIN
+            colour[faint] = cv2.LUT(hue, FAINT_HUE_BIN_LUT)[faint]
         grey = (saturation < self.settings.min_faint_saturation) | (value < CHROMA_VALUE_MIN)
         colour[grey] = GREY_BIN
         return colour.astype(np.uint16) * VALUE_BINS + cv2.LUT(value, VALUE_BIN_LUT)
