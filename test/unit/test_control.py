@@ -736,3 +736,43 @@ def test_commands_do_not_depend_on_when_the_trial_started():
         return out
 
     assert commands(1.2208333333333334) == commands(1.4208333333333334)
+
+
+def test_unknown_floor_below_the_cameras_view_makes_the_robot_back_up_to_see_it():
+    """The image's bottom row meets the floor 0.5 m ahead of the camera: floor just in front of
+    the robot that no sensor has observed stays below the view however the robot turns, so the
+    robot backs up to see it (floor behind it observed) and drives on once it has; with an
+    obstacle behind it, it turns to look instead."""
+    def command_with(obstacle_behind, see_ahead_after_s=None):
+        controller = make_controller(scan_topics='/scan')
+        controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5,
+                                              0.5))
+        controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+        controller.observe_scan('/scan', *CLEAR_SCAN, (0.0, 0.0), 0.0)
+        grid = controller.navigator.grid
+        fine = np.arange(grid.observed.shape[0]) * grid.observed_resolution_m + grid.origin_m
+        ahead_x = (fine >= 0.2) & (fine < 0.45)
+        beside_y = (fine >= -0.2) & (fine < 0.2)
+        grid.observed[np.ix_(ahead_x, beside_y)] = False
+        rear = CLEAR_SCAN[0][:, 0] < -0.1
+        ends, hits = CLEAR_SCAN[0][rear], CLEAR_SCAN[1][rear]
+        if obstacle_behind:
+            ends, hits = np.vstack((ends, [[-0.3, 0.0]])), np.append(hits, True)
+        now, command = 0.0, None
+        for _ in range(10):
+            controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
+            controller.observe_scan('/scan', ends, hits, (0.0, 0.0), now)
+            controller.observe(ahead(1.0), now)
+            command = controller.command(now)
+            now += DT
+        return controller, command, now
+
+    controller, command, now = command_with(obstacle_behind=False)
+    assert command == (pytest.approx(-DEFAULTS['max_reverse']), 0.0)
+    assert controller.why.endswith('backing up to see it')
+    command = drive_toward_can(controller, now, 1.0, ('/scan',))
+    assert command[0] > 0.1 and controller.why == ''
+
+    controller, command, _ = command_with(obstacle_behind=True)
+    assert command[0] == 0.0 and abs(command[1]) > 0.0
+    assert controller.why.endswith('turning to look at it')

@@ -85,7 +85,8 @@ PARAMS = (
     Param('min_linear', 0.03,
           'slowest approach speed outside the dead-band, so the robot really arrives (m/s)',
           0.0, 0.5),
-    Param('max_reverse', 0.1, 'backing-up speed limit when closer than stop_distance (m/s)',
+    Param('max_reverse', 0.1, 'backing-up speed limit: when closer than stop_distance, and '
+          'to see floor below the camera\'s view that keeps the robot from driving (m/s)',
           0.0, 1.0, safer='lower'),
     Param('max_angular', 1.2, 'turn rate limit (rad/s)', 0.05, 6.0, safer='lower'),
     Param('min_angular', 0.08,
@@ -846,12 +847,32 @@ class Controller:
             reason = ('%s %s: %.2f m of free travel, speed capped at %.2f m/s'
                       % ('floor not yet seen' if unknown else 'obstacle',
                          'ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
-            if (look and unknown and safe == 0.0 and linear > 0.0
-                    and abs(angular) < LOOK_BELOW_FRACTION * self.config.search_angular):
-                angular = math.copysign(self.config.search_angular, unknown_point[1] or 1.0)
-                reason += ', turning to look at it'
+            if look and unknown and safe == 0.0 and linear > 0.0:
+                if self._below_view(unknown_point) and self._can_back_up(exclude, radius):
+                    self._because(reason + ', below the camera\'s view: backing up to see it')
+                    return -self.config.max_reverse, 0.0
+                if abs(angular) < LOOK_BELOW_FRACTION * self.config.search_angular:
+                    angular = math.copysign(self.config.search_angular, unknown_point[1] or 1.0)
+                    reason += ', turning to look at it'
             self._because(reason)
         return safe, angular
+
+    def _below_view(self, point_base: np.ndarray) -> bool:
+        """True when floor point ``point_base`` (base_link) is nearer the camera's floor point
+        than the floor of the image's bottom row (with half a grid cell to spare): no turn in
+        place brings it into view, only backing up."""
+        view = self.camera_view
+        if view is None or view.base_near_m <= 0.0:
+            return False
+        distance_m = math.hypot(point_base[0] - view.x, point_base[1] - view.y)
+        return distance_m < view.base_near_m + self.navigator.grid.resolution_m / 2.0
+
+    def _can_back_up(self, exclude, radius_m: float) -> bool:
+        """True when the safety layer lets the robot back up at ~max_reverse."""
+        reverse = (-self.config.max_reverse, 0.0)
+        free_m, _ = self.navigator.safety_block(reverse, exclude, radius_m)
+        return avoidance.safe_linear(reverse[0], free_m, self.config.max_linear_accel,
+                                     SAFETY_RESERVE_M) != 0.0
 
     def _settled(self, command: Tuple[float, float]) -> bool:
         """True when APPROACH has arrived: within both tolerances and at rest."""

@@ -50,7 +50,7 @@ import numpy as np
 
 from can_seeker.params import Param
 from can_seeker.vision.vignetting import VignettingEstimate
-from can_seeker.vision.white_balance import WhiteBalanceLock
+from can_seeker.vision.white_balance import CHROMA_SIZE, WhiteBalanceLock, chromaticity_bins
 
 FLOOR_MODELS = ('adaptive', 'dark')
 
@@ -93,6 +93,17 @@ the same floor on both sides, a pixel that is not floor is an object, not a blen
 BLEND_MARGIN = 0.1
 """A blend lies between its two floor colours, at least this fraction of the way from either:
 a pixel of one side's colour is that side's, not a mix."""
+CHROMA_MEDIAN_PX = 5
+"""The chromaticity test judges each pixel's 5x5 median (per channel): sensor noise shrinks,
+and a tile edge stays sharp, so a pixel beside it keeps its tile's colour."""
+CHROMA_TOLERANCE_BINS = 2
+"""The chromaticity test sums the floor's mass over this many log-chromaticity bins (0.02
+each) either side of a pixel's in both ratios: +-4 % in R/G and B/G."""
+MIN_CHROMA_PIXELS = 200
+"""A chromaticity model needs at least this many usable floor pixels (a dark floor has none)."""
+CHROMA_MIN_VALUE = 60
+"""Pixels (medians) whose brightest channel is darker than this are not judged on their
+chromaticity: a few grey levels of noise are too large a ratio there."""
 
 FLOOR_PARAMS = (
     Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
@@ -124,6 +135,11 @@ FLOOR_PARAMS = (
           'than 50 have a faint colour, judged on coarse hue bins of 30 degrees, so a pinkish '
           'grey wall is no greenish grey floor; less saturated pixels are grey (50 = faint '
           'colours are grey too)', 0, 50),
+    Param('min_chroma_fraction', 0.0, 'a pixel whose log chromaticity (log R/G and log B/G '
+          'of its 5x5 median, brightest channel 60 or more) and its neighbours within 0.04 in '
+          'each hold less than this fraction of the floor\'s is an obstacle: a cream wall is '
+          'no white or pale blue floor tile, though all are too pale to have a hue (1; 0 = '
+          'off; e.g. 0.002)', 0.0, 1.0),
     Param('max_vignetting', 0.7, 'largest lens fall-off the floor model estimates from the '
           'images and undoes before classifying: brightness lost in the image corners (1, '
           'fraction; an estimate under 0.05 leaves the image alone; 0 = off)', 0.0, 0.9),
@@ -148,6 +164,7 @@ class FloorSettings:
     max_colour_shift: float = 0.0
     min_joint_fraction: float = 0.002
     min_faint_saturation: int = 50
+    min_chroma_fraction: float = 0.0
     max_vignetting: float = 0.7
     min_edge_contrast: float = 1.5
 
@@ -218,11 +235,13 @@ class FloorClassifier:
         self.vignetting = VignettingEstimate(self.settings.max_vignetting)
         self._shape = None
         self.model = None
+        self.chroma_model = None
         self.model_updated = False
 
     def reset(self):
         """Forget the floor model: the next frame's reference area is learned afresh."""
         self.model = None
+        self.chroma_model = None
         self.white_balance.reset()
         self.vignetting.reset()
 
@@ -305,10 +324,53 @@ class FloorClassifier:
                 bgr = self.white_balance.correct(bgr)
             features = self._features(bgr)
             raw = self._obstacle_pixels(features)
+        chroma = None
+        if self.settings.min_chroma_fraction > 0.0:
+            chroma = chromaticity_bins(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX), CHROMA_MIN_VALUE)
+            if self.chroma_model is None:
+                self.chroma_model = self._chroma_histogram(chroma, reference)
+            raw[self._chroma_obstacles(chroma)] = 255
         floor = self._update_model(features, raw, reference)
         if floor is not None:
             self.white_balance.learn(bgr[floor], self.settings.adapt_rate)
+            if chroma is not None:
+                self._learn_chroma(chroma, floor)
         return bgr, raw
+
+    @staticmethod
+    def _chroma_histogram(chroma, where):
+        """The normalised log-chromaticity histogram (CHROMA_SIZE x CHROMA_SIZE) of the
+        usable pixels of ``chroma`` (bins, usable) where ``where``, or None with too few."""
+        bins, usable = chroma
+        selected = bins[where & usable]
+        if selected.size < MIN_CHROMA_PIXELS:
+            return None
+        counts = np.bincount(selected, minlength=CHROMA_SIZE * CHROMA_SIZE)
+        return (counts / float(selected.size)).reshape(CHROMA_SIZE, CHROMA_SIZE)
+
+    def _chroma_obstacles(self, chroma) -> np.ndarray:
+        """Boolean image: usable pixels whose log chromaticity the floor holds too little
+        of within CHROMA_TOLERANCE_BINS (none while the floor has no chromaticity model)."""
+        if self.chroma_model is None:
+            return np.zeros(chroma[1].shape, bool)
+        side = 2 * CHROMA_TOLERANCE_BINS + 1
+        near = cv2.boxFilter(self.chroma_model, -1, (side, side), normalize=False,
+                             borderType=cv2.BORDER_CONSTANT)
+        rare = (near < self.settings.min_chroma_fraction).ravel()
+        bins, usable = chroma
+        return usable & rare[bins]
+
+    def _learn_chroma(self, chroma, floor):
+        """Blend the floor pixels' chromaticity into its model (the first usable one is the
+        model)."""
+        current = self._chroma_histogram(chroma, floor)
+        if current is None:
+            return
+        if self.chroma_model is None:
+            self.chroma_model = current
+        else:
+            rate = self.settings.adapt_rate
+            self.chroma_model = (1.0 - rate) * self.chroma_model + rate * current
 
     def _obstacle_pixels(self, features):
         """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model, or

@@ -50,22 +50,34 @@ def _ratio_bin_table() -> np.ndarray:
 RATIO_BIN = _ratio_bin_table()
 
 
+CHROMA_SIZE = 2 * CHROMA_HALF_RANGE_BINS + 1
+"""Bins along each axis of a log-chromaticity histogram."""
+
+
+def chromaticity_bins(bgr: np.ndarray, min_value: int = MIN_VALUE):
+    """(bin, usable) of uint8 BGR pixels (any shape ending in 3): the flat index
+    (row log B/G, column log R/G) of each pixel's log-chromaticity histogram bin (int), and
+    whether its chromaticity is reliable (brightest channel from ``min_value`` up to under
+    MAX_VALUE, both ratios within the histogram)."""
+    blue, green, red = bgr[..., 0], bgr[..., 1], bgr[..., 2]
+    rows = RATIO_BIN[blue, green]
+    columns = RATIO_BIN[red, green]
+    brightest = np.maximum(np.maximum(blue, green), red)
+    usable = (rows != 255) & (columns != 255) & (brightest >= min_value) & (brightest < MAX_VALUE)
+    return rows.astype(np.intp) * CHROMA_SIZE + columns, usable
+
+
 def log_chromaticity_histogram(bgr_pixels: np.ndarray) -> Optional[np.ndarray]:
     """Normalised, lightly smoothed 2-D histogram (rows log B/G, columns log R/G) of an Nx3
     uint8 array of BGR pixels; None when too few of them have a reliable chromaticity."""
     if len(bgr_pixels) < MIN_PIXELS:
         return None
-    blue, green, red = bgr_pixels[:, 0], bgr_pixels[:, 1], bgr_pixels[:, 2]
-    rows = RATIO_BIN[blue, green]
-    columns = RATIO_BIN[red, green]
-    brightest = np.maximum(np.maximum(blue, green), red)
-    usable = (rows != 255) & (columns != 255) & (brightest >= MIN_VALUE) & (brightest < MAX_VALUE)
+    bins, usable = chromaticity_bins(bgr_pixels)
     if np.count_nonzero(usable) < MIN_PIXELS:
         return None
-    size = 2 * CHROMA_HALF_RANGE_BINS + 1
-    counts = np.bincount(rows[usable].astype(np.intp) * size + columns[usable],
-                         minlength=size * size)
-    histogram = cv2.GaussianBlur(counts.reshape(size, size).astype(np.float32), (5, 5), 1.0)
+    counts = np.bincount(bins[usable], minlength=CHROMA_SIZE * CHROMA_SIZE)
+    histogram = cv2.GaussianBlur(counts.reshape(CHROMA_SIZE, CHROMA_SIZE).astype(np.float32),
+                                 (5, 5), 1.0)
     return histogram / float(histogram.sum())
 
 
