@@ -741,9 +741,10 @@ def test_commands_do_not_depend_on_when_the_trial_started():
 def test_unknown_floor_below_the_cameras_view_makes_the_robot_back_up_to_see_it():
     """The image's bottom row meets the floor 0.5 m ahead of the camera: floor just in front of
     the robot that no sensor has observed stays below the view however the robot turns, so the
-    robot backs up to see it (floor behind it observed) and drives on once it has; with an
-    obstacle behind it, it turns to look instead."""
-    def command_with(obstacle_behind, see_ahead_after_s=None):
+    robot backs up (floor behind it observed) until that floor is 5 cm inside the view, and
+    drives on once a scan has observed it; with an obstacle behind it, it turns to look
+    instead."""
+    def backing_up(obstacle_behind):
         controller = make_controller(scan_topics='/scan')
         controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5,
                                               0.5))
@@ -758,21 +759,35 @@ def test_unknown_floor_below_the_cameras_view_makes_the_robot_back_up_to_see_it(
         ends, hits = CLEAR_SCAN[0][rear], CLEAR_SCAN[1][rear]
         if obstacle_behind:
             ends, hits = np.vstack((ends, [[-0.3, 0.0]])), np.append(hits, True)
-        now, command = 0.0, None
-        for _ in range(10):
-            controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
+        x_m, now, commands, reasons = 0.0, 0.0, [], []
+        for _ in range(int(8.0 / DT)):
+            controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
             controller.observe_scan('/scan', ends, hits, (0.0, 0.0), now)
-            controller.observe(ahead(1.0), now)
-            command = controller.command(now)
+            controller.observe(Sighting(1.0 - x_m, 0.0), now)
+            commands.append(controller.command(now))
+            reasons.append(controller.why)
+            if len(commands) > 5 and commands[-1][0] >= 0.0 and commands[-2][0] < 0.0:
+                break
+            x_m += commands[-1][0] * DT
             now += DT
-        return controller, command, now
+        return controller, x_m, commands, reasons, now
 
-    controller, command, now = command_with(obstacle_behind=False)
-    assert command == (pytest.approx(-DEFAULTS['max_reverse']), 0.0)
-    assert controller.why.endswith('backing up to see it')
-    command = drive_toward_can(controller, now, 1.0, ('/scan',))
+    controller, x_m, commands, reasons, now = backing_up(obstacle_behind=False)
+    assert reasons[0].endswith('below the camera\'s view: backing up to see it')
+    assert commands[20] == (pytest.approx(-DEFAULTS['max_reverse']), 0.0)
+    assert 'backing up' in reasons[20]
+    # then the nearest unknown floor's cell is 5 cm inside the view (to a tick's travel)
+    assert 0.4 < -x_m < 0.5
+    for _ in range(int(2.0 / DT)):
+        controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
+        controller.observe_scan('/scan', *CLEAR_SCAN, (0.0, 0.0), now)
+        controller.observe(Sighting(1.0 - x_m, 0.0), now)
+        command = controller.command(now)
+        x_m += command[0] * DT
+        now += DT
     assert command[0] > 0.1 and controller.why == ''
 
-    controller, command, _ = command_with(obstacle_behind=True)
-    assert command[0] == 0.0 and abs(command[1]) > 0.0
-    assert controller.why.endswith('turning to look at it')
+    controller, x_m, commands, reasons, _ = backing_up(obstacle_behind=True)
+    assert len(commands) == int(8.0 / DT)
+    assert x_m == 0.0 and all(command[0] == 0.0 for command in commands)
+    assert abs(commands[-1][1]) > 0.0 and reasons[-1].endswith('turning to look at it')

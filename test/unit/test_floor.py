@@ -264,6 +264,31 @@ def test_a_pinkish_grey_wall_on_a_greenish_grey_floor_is_an_obstacle():
     assert wall_on_checker(light, dark, wall, FloorSettings(min_faint_saturation=50))[0] < 0.1
 
 
+def test_a_cream_wall_on_a_checker_of_white_and_pale_blue_is_an_obstacle_by_its_chromaticity():
+    """Harsh realism with the white balance undone: a cream wall and a white and a pale blue
+    tile are all too pale to have a hue (saturation under 50 of 255) and equally bright, so by
+    hue and brightness the wall is floor. Their log chromaticities lie 0.15 apart (cream warm,
+    pale blue cool, white between): the wall is new to the floor's."""
+    white, pale_blue, cream = (215, 215, 215), (225, 200, 185), (175, 200, 215)
+    recall, false_rate = wall_on_checker(white, pale_blue, cream,
+                                         FloorSettings(min_chroma_fraction=0.002))
+    assert recall > 0.98 and false_rate < 0.002
+    assert wall_on_checker(white, pale_blue, cream, FloorSettings())[0] < 0.1
+
+
+@pytest.mark.parametrize('floor', [(128, 128, 128), (60, 62, 58), (200, 196, 204)])
+def test_a_noisy_floor_is_floor_by_its_chromaticity_too(floor):
+    """Noise spreads a floor's chromaticity, the darker the more; the model learns that
+    spread from the reference area's 5x5 medians, so no floor pixel is rare in it, and a box of
+    a clear colour still is an obstacle."""
+    classifier = FloorClassifier(FloorSettings(min_chroma_fraction=0.002))
+    for seed in range(5):
+        classifier.classify(floor_image(floor, sigma=6.0, seed=seed))
+    recall, false_rate = box_recall_and_false_rate(
+        classifier.classify(with_box(floor_image(floor, sigma=6.0, seed=9), (40, 140, 200))))
+    assert recall > 0.98 and false_rate < 0.002
+
+
 @pytest.mark.parametrize('floor', [(128, 128, 128), (60, 62, 58), (200, 196, 204)])
 def test_a_noisy_grey_floor_is_floor_whatever_hue_its_noise_gives_faint_pixels(floor):
     """Noise gives the pixels of a neutral floor faint colours of every hue: the model learns

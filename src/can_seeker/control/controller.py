@@ -187,6 +187,9 @@ DIRECT_GAP_M = 0.5
 STOP_ASIDE_STEP_DEG = 5.0
 """Stop points beside the straight approach are tried this far apart around the can (deg)."""
 STALL_S = 6.0
+BACK_UP_BEYOND_M = 0.05
+"""A robot backing up to see floor below the camera's view backs up this much farther than
+that floor is below it, so the image's bottom rows see it whole."""
 NOT_THERE_S = 1.0
 """LOST within reach of where the can was seen last, facing it (within
 ~reapproach_bearing_deg, its base in view) without seeing it for this long (s): it is not
@@ -389,6 +392,7 @@ class Controller:
         self.path_xy: Optional[np.ndarray] = None
         self.progress: Optional[Tuple[int, float, float, Optional[np.ndarray]]] = None
         self.stop_aside: Optional[float] = None
+        self.backing: Optional[Tuple[float, float, float]] = None
 
     def observe(self, sighting: Optional[Sighting], now_s: float,
                 image_stamp_s: float = math.inf) -> None:
@@ -831,6 +835,8 @@ class Controller:
         from driving, and that is not turning, turns toward that floor at ~search_angular so
         the camera observes it (no turn is ever limited)."""
         linear, angular = command
+        if look and linear <= 0.0:
+            self.backing = None
         if not self.senses_obstacles or linear == 0.0:
             return command
         problems = self._sensing_problems(now_s)
@@ -839,6 +845,13 @@ class Controller:
             return 0.0, angular
         exclude = self.can_xy if self.state in (State.APPROACH, State.LOST) else None
         radius = self.config.can_exclusion_radius
+        if look and self.backing is not None:
+            backed_m = self.navigator.distance_to(self.backing[:2])
+            if backed_m < self.backing[2] and self._can_back_up(exclude, radius):
+                self._because('floor below the camera\'s view ahead: backing up %.2f of %.2f m '
+                              'to see it' % (backed_m, self.backing[2]))
+                return -self.config.max_reverse, 0.0
+            self.backing = None
         free_m, unknown_point = self.navigator.safety_block(command, exclude, radius)
         safe = avoidance.safe_linear(linear, free_m, self.config.max_linear_accel,
                                      SAFETY_RESERVE_M)
@@ -848,7 +861,10 @@ class Controller:
                       % ('floor not yet seen' if unknown else 'obstacle',
                          'ahead' if linear > 0.0 else 'behind', free_m, abs(safe)))
             if look and unknown and safe == 0.0 and linear > 0.0:
-                if self._below_view(unknown_point) and self._can_back_up(exclude, radius):
+                hidden_m = self._below_view_m(unknown_point)
+                if hidden_m > 0.0 and self._can_back_up(exclude, radius):
+                    pose = self.navigator.pose
+                    self.backing = (pose.x, pose.y, hidden_m + BACK_UP_BEYOND_M)
                     self._because(reason + ', below the camera\'s view: backing up to see it')
                     return -self.config.max_reverse, 0.0
                 if abs(angular) < LOOK_BELOW_FRACTION * self.config.search_angular:
@@ -857,15 +873,16 @@ class Controller:
             self._because(reason)
         return safe, angular
 
-    def _below_view(self, point_base: np.ndarray) -> bool:
-        """True when floor point ``point_base`` (base_link) is nearer the camera's floor point
-        than the floor of the image's bottom row (with half a grid cell to spare): no turn in
-        place brings it into view, only backing up."""
+    def _below_view_m(self, point_base: np.ndarray) -> float:
+        """How much nearer (m) floor point ``point_base`` (base_link) is to the camera's floor
+        point than the floor of the image's bottom row, with half a grid cell to spare (0 when
+        it is not, or the view is not known): no turn in place brings such floor into view,
+        only backing up that far."""
         view = self.camera_view
         if view is None or view.base_near_m <= 0.0:
-            return False
+            return 0.0
         distance_m = math.hypot(point_base[0] - view.x, point_base[1] - view.y)
-        return distance_m < view.base_near_m + self.navigator.grid.resolution_m / 2.0
+        return max(0.0, view.base_near_m + self.navigator.grid.resolution_m / 2.0 - distance_m)
 
     def _can_back_up(self, exclude, radius_m: float) -> bool:
         """True when the safety layer lets the robot back up at ~max_reverse."""

@@ -358,7 +358,7 @@ class FloorClassifier:
                              borderType=cv2.BORDER_CONSTANT)
         rare = (near < self.settings.min_chroma_fraction).ravel()
         bins, usable = chroma
-        return usable & rare[bins]
+        return usable & rare[np.where(usable, bins, 0)]
 
     def _learn_chroma(self, chroma, floor):
         """Blend the floor pixels' chromaticity into its model (the first usable one is the
