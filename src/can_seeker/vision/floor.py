@@ -329,12 +329,13 @@ class FloorClassifier:
             chroma = chromaticity_bins(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX), CHROMA_MIN_VALUE)
             if self.chroma_model is None:
                 self.chroma_model = self._chroma_histogram(chroma, reference)
+            appearance_floor = raw == 0
             raw[self._chroma_obstacles(chroma)] = 255
         floor = self._update_model(features, raw, reference)
         if floor is not None:
             self.white_balance.learn(bgr[floor], self.settings.adapt_rate)
             if chroma is not None:
-                self._learn_chroma(chroma, floor)
+                self._learn_chroma(chroma, reference & appearance_floor)
         return bgr, raw
 
     @staticmethod
@@ -361,8 +362,10 @@ class FloorClassifier:
         return usable & rare[np.where(usable, bins, 0)]
 
     def _learn_chroma(self, chroma, floor):
-        """Blend the floor pixels' chromaticity into its model (the first usable one is the
-        model)."""
+        """Blend the chromaticity of ``floor`` (reference pixels of a frame that teaches the
+        model, floor by colour and intensity) into its model; the first usable one is the
+        model. A floor colour the first frames did not show (the other tile of a checker) is
+        learned once it is in the reference area, as long as most of that area is floor."""
         current = self._chroma_histogram(chroma, floor)
         if current is None:
             return
