@@ -41,6 +41,14 @@ back on it (all the floor's colours move together, whatever the mix of tiles in 
 it on the whole image before classifying (von Kries' chromatic adaptation, anchored on the
 floor). The shift follows a drift's pace and stays within ``~max_colour_shift``; a colour that
 differs from the floor's by more is never explained away as white balance.
+
+Pale colours have no hue the model can trust, so the paper's "grey" holds a cream wall, a white
+tile and a pale blue one alike, told apart by brightness only. With ``~min_chroma_fraction``
+the model also keeps the floor's log-chromaticity histogram (of 5x5 medians, so noise is
+small and a tile edge stays sharp) and a pixel whose chromaticity the floor holds too little
+of is an obstacle. It learns every reference pixel that is floor by colour and intensity, so
+the other tile of a checker is learned once the robot has it in front; it needs the
+white-balance drift undone (``~max_colour_shift``) on a camera whose white balance drifts.
 """
 from dataclasses import dataclass
 from typing import Optional
