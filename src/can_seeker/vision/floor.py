@@ -143,11 +143,11 @@ FLOOR_PARAMS = (
           'than 50 have a faint colour, judged on coarse hue bins of 30 degrees, so a pinkish '
           'grey wall is no greenish grey floor; less saturated pixels are grey (50 = faint '
           'colours are grey too)', 0, 50),
-    Param('min_chroma_fraction', 0.0, 'a pixel whose log chromaticity (log R/G and log B/G '
+    Param('min_chroma_fraction', 0.002, 'a pixel whose log chromaticity (log R/G and log B/G '
           'of its 5x5 median, brightest channel 60 or more) and its neighbours within 0.04 in '
           'each hold less than this fraction of the floor\'s is an obstacle: a cream wall is '
-          'no white or pale blue floor tile, though all are too pale to have a hue (1; 0 = '
-          'off; e.g. 0.002)', 0.0, 1.0),
+          'no white or pale blue floor tile, though all are too pale to have a hue; on a camera '
+          'whose white balance drifts, with ~max_colour_shift (1; 0 = off)', 0.0, 1.0),
     Param('max_vignetting', 0.7, 'largest lens fall-off the floor model estimates from the '
           'images and undoes before classifying: brightness lost in the image corners (1, '
           'fraction; an estimate under 0.05 leaves the image alone; 0 = off)', 0.0, 0.9),
@@ -172,7 +172,7 @@ class FloorSettings:
     max_colour_shift: float = 0.0
     min_joint_fraction: float = 0.002
     min_faint_saturation: int = 50
-    min_chroma_fraction: float = 0.0
+    min_chroma_fraction: float = 0.002
     max_vignetting: float = 0.7
     min_edge_contrast: float = 1.5
 
