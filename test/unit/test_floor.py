@@ -201,7 +201,7 @@ def test_a_drifting_white_balance_does_not_turn_a_pale_tile_into_an_obstacle():
     stays one."""
     white, lavender = (205, 205, 200), (200, 170, 180)
     locked = FloorClassifier(FloorSettings(max_colour_shift=0.3))
-    unlocked = FloorClassifier()
+    unlocked = FloorClassifier(FloorSettings(max_colour_shift=0.0))
     for classifier in (locked, unlocked):
         classifier.classify(_checker(white, lavender))
     for step in range(1, 46):
@@ -309,8 +309,9 @@ def test_a_grey_floor_whose_white_balance_drifts_to_a_faint_colour_stays_floor()
     blues within seconds. Judged by hue, every such tile became an obstacle (bench_floor, harsh
     2000-2009: phantom bins 16 % -> 47 %); on a floor that is mostly grey faint colours count as
     grey. (The chromaticity test is off: without the white-balance lock a drift moves the
-    floor's chromaticity as well.)"""
-    classifier = FloorClassifier(FloorSettings(min_faint_saturation=16, min_chroma_fraction=0.0))
+    floor's chromaticity as well; the lock is off, the jumps are not a drift's pace.)"""
+    classifier = FloorClassifier(FloorSettings(min_faint_saturation=16, min_chroma_fraction=0.0,
+                                               max_colour_shift=0.0))
     for seed in range(5):
         classifier.classify(floor_image((140, 140, 140), sigma=2.0, seed=seed))
     for gains in ((0.9, 1.0, 1.1), (1.1, 1.0, 0.9)):

@@ -100,3 +100,63 @@ def test_a_dark_floor_teaches_nothing():
     lock.track(dark)
     lock.track(np.clip(dark * 1.3, 0, 255).astype(np.uint8))
     assert lock.model is None and lock.gains() is None
+
+
+GREEN_GREY_TILE = (158, 168, 138)
+SAGE_TILE = (184, 210, 164)
+"""BGR: two greenish grey tiles 0.05 apart in log R/G and 0.07 in log B/G, as near as a
+drift of a few frames."""
+
+
+def near_tiles(sage_fraction, gains_bgr=(1.0, 1.0, 1.0), count=12000, seed=0):
+    """Nx3 uint8 pixels of a floor of the two near tiles, with noise."""
+    rng = np.random.default_rng(seed)
+    sage = rng.random(count) < sage_fraction
+    pixels = np.where(sage[:, None], np.array(SAGE_TILE, float), np.array(GREEN_GREY_TILE, float))
+    pixels = pixels * np.asarray(gains_bgr)[None, :] + rng.normal(0.0, 2.0, pixels.shape)
+    return np.clip(np.rint(pixels), 0, 255).astype(np.uint8)
+
+
+def scene(sage_fraction, gains_bgr=(1.0, 1.0, 1.0), seed=0):
+    """A whole 120x160 frame of that floor (its mix of tiles is the scene's)."""
+    return near_tiles(sage_fraction, gains_bgr, 120 * 160, seed).reshape(120, 160, 3)
+
+
+def test_driving_over_tiles_of_near_colours_is_no_drift():
+    """The lock learned one tile; the robot drives over a checker of it and another tile within
+    a drift's reach, the reference area filled by one and then the other every 6 frames. The
+    reference area alone cannot tell the other tile from a drift (laid on the known tile, it
+    fits best) and the shift jumped to it at every tile; the whole image, whose colours did not
+    move, tells, and the shift stays none. (A long stay on a tile the floor model has not
+    learned still pulls the shift toward it: only the floor's colours anchor it.)"""
+    def reference(step):
+        return near_tiles(0.9 if (step // 6) % 2 else 0.1, seed=step)
+
+    lock = WhiteBalanceLock(0.3)
+    alone = WhiteBalanceLock(0.3)
+    lock.track(near_tiles(0.0), scene(0.5))
+    alone.track(near_tiles(0.0))
+    alone_largest = 0.0
+    for step in range(1, 61):
+        lock.track(reference(step), scene(0.5, seed=step))
+        alone.track(reference(step))
+        assert np.abs(lock.shift_log).max() < 0.5 * CHROMA_BIN
+        alone_largest = max(alone_largest, np.abs(alone.shift_log).max())
+    assert alone_largest > 3 * CHROMA_BIN
+
+
+def test_with_the_whole_image_the_shift_follows_a_drift_and_a_jump_the_floor_refutes_is_not_taken():
+    """A drift moves the whole image and the floor alike: the shift follows it. A scene change
+    that looks like one (the frame turns redder as a whole) while the floor stays is no drift."""
+    lock = WhiteBalanceLock(0.3)
+    lock.track(near_tiles(0.5), scene(0.5))
+    red_log, blue_log = 0.0, 0.0
+    for step in range(1, 21):
+        red_log, blue_log = 0.006 * step, -0.004 * step
+        gains = drift_gains(red_log, blue_log)
+        lock.track(near_tiles(0.5, gains, seed=step), scene(0.5, gains, seed=step))
+    assert lock.shift_log == pytest.approx((red_log, blue_log), abs=0.006)
+    held = lock.shift_log.copy()
+    gains = drift_gains(red_log, blue_log)
+    lock.track(near_tiles(0.5, gains, seed=99), scene(0.5, drift_gains(red_log + 0.08, blue_log)))
+    assert lock.shift_log == pytest.approx(held, abs=0.006)

@@ -36,11 +36,13 @@ A camera's white balance drifts: every channel's gain wanders, so a pale floor t
 saturation crosses the line at which it has a hue within seconds, and the whole tile becomes an
 obstacle. Channel gains multiply, so in log chromaticity (log R/G, log B/G) a drift moves every
 colour of the image by the same shift. The adaptive model therefore also keeps the reference
-area's log-chromaticity histogram and, each frame, finds the shift that lays the reference area
-back on it (all the floor's colours move together, whatever the mix of tiles in view) and undoes
-it on the whole image before classifying (von Kries' chromatic adaptation, anchored on the
-floor). The shift follows a drift's pace and stays within ``~max_colour_shift``; a colour that
-differs from the floor's by more is never explained away as white balance.
+area's log-chromaticity histogram; each frame it follows the shift between the last frame and
+this one over the whole image (a drift moves every colour, driving onto another tile only those
+in front of the robot), holds it to the shift that lays the reference area back on the floor's
+colours nearby, and undoes it on the whole image before classifying (von Kries' chromatic
+adaptation, anchored on the floor; :mod:`can_seeker.vision.white_balance`). The shift follows a
+drift's pace and stays within ``~max_colour_shift``; a colour that differs from the floor's by
+more is never explained away as white balance.
 
 Pale colours have no hue the model can trust, so the paper's "grey" holds a cream wall, a white
 tile and a pale blue one alike, told apart by brightness only. With ``~min_chroma_fraction``
@@ -129,11 +131,10 @@ FLOOR_PARAMS = (
           'reference area is more than this fraction obstacle pixels (1)', 0.0, 1.0),
     Param('min_obstacle_area', 0.001, 'obstacle regions smaller than this fraction of the image '
           'area are ignored as noise (1)', 0.0, 1.0),
-    Param('max_colour_shift', 0.0, 'largest white-balance drift the floor model undoes: the '
-          'log-chromaticity shift (natural log of a channel ratio to green) that lays the '
-          'reference area\'s colours back on the floor model\'s, undone on the whole image '
-          'before classifying; 0 = off (for a camera whose white balance drifts, e.g. 0.3)',
-          0.0, 1.0),
+    Param('max_colour_shift', 0.3, 'largest white-balance drift the floor model undoes: the '
+          'log-chromaticity shift (natural log of a channel ratio to green), followed from '
+          'frame to frame over the whole image and held to the reference area\'s colours, '
+          'undone on the whole image before classifying (0 = off)', 0.0, 1.0),
     Param('min_joint_fraction', 0.002, 'a pixel whose (colour, intensity) bin and its '
           'neighbours (a colour bin and 16 grey levels either side) hold less than this fraction '
           'of the floor model is an obstacle, even when its colour and its intensity are each '
@@ -147,7 +148,7 @@ FLOOR_PARAMS = (
           'of its 5x5 median, brightest channel 60 or more) and its neighbours within 0.04 in '
           'each hold less than this fraction of the floor\'s is an obstacle: a cream wall is '
           'no white or pale blue floor tile, though all are too pale to have a hue; on a camera '
-          'whose white balance drifts, with ~max_colour_shift (1; 0 = off)', 0.0, 1.0),
+          'whose white balance drifts, it needs ~max_colour_shift (1; 0 = off)', 0.0, 1.0),
     Param('max_vignetting', 0.7, 'largest lens fall-off the floor model estimates from the '
           'images and undoes before classifying: brightness lost in the image corners (1, '
           'fraction; an estimate under 0.05 leaves the image alone; 0 = off)', 0.0, 0.9),
@@ -169,7 +170,7 @@ class FloorSettings:
     reference_height: float = 0.2
     suspect_fraction: float = 0.3
     min_obstacle_area: float = 0.001
-    max_colour_shift: float = 0.0
+    max_colour_shift: float = 0.3
     min_joint_fraction: float = 0.002
     min_faint_saturation: int = 50
     min_chroma_fraction: float = 0.002
@@ -315,7 +316,7 @@ class FloorClassifier:
         self.vignetting.observe(bgr)
         bgr = self.vignetting.correct(bgr)
         if self.model is None:
-            self.white_balance.track(bgr[reference])
+            self.white_balance.track(bgr[reference], bgr)
             features = self._features(bgr)
             self.model = self._histogram(features, reference)
             if self.model is None:
@@ -328,7 +329,7 @@ class FloorClassifier:
                 top = int(self.reference_corners[:, 1].min())
                 features = self._features(self.white_balance.correct(bgr[top:]))
                 floor_before = reference[top:] & (self._obstacle_pixels(features) == 0)
-                self.white_balance.track(bgr[top:][floor_before])
+                self.white_balance.track(bgr[top:][floor_before], bgr)
                 bgr = self.white_balance.correct(bgr)
             features = self._features(bgr)
             raw = self._obstacle_pixels(features)

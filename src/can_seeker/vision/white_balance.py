@@ -12,6 +12,14 @@ drift does, never by more than a bound, and is let go toward none, at the pace a
 white balance pulls its drift back, while nothing in view measures it: a lost lock does not
 stay lost, and a surface whose colour differs from the floor's by more than a frame's drift is
 never explained away as white balance.
+
+The floor alone cannot tell a drift from the robot driving onto a tile of a slightly other
+colour: both move the reference area's colours. A drift moves every colour of the image at
+once, a new tile only those in front of the robot, and two frames in a row show nearly the same
+scene. Given the whole image, the lock therefore predicts the shift from the last one plus
+the shift between this frame's whole-image histogram and the last frame's, and lets the floor
+correct that prediction only by a peak of its own within ANCHOR_BINS of it: a floor that would
+pull the shift farther (it lays a new tile onto a known one) corrects nothing.
 """
 from typing import Optional
 
@@ -32,6 +40,15 @@ MIN_OVERLAP = 0.3
 RELAX_RATE = 0.05
 """Fraction of the shift let go per frame without a measurement (a camera's white balance
 pulls its own drift back at about this pace)."""
+ANCHOR_BINS = 2
+"""With the whole image's step known, the floor corrects the predicted shift only by a
+correlation peak within this many bins of it."""
+MIN_FRAME_OVERLAP = 0.7
+"""Two frames' whole-image histograms must share at least this much mass (0-1), shifted by the
+step between them, for the step to count (a frame that shows a new scene gives none)."""
+FRAME_STEP_BINS = 2 * STEP_BINS
+"""The step between two frames is looked for within this many bins (twice a drift's usual
+pace: a frame may follow a dropped one)."""
 MIN_VALUE = 40
 """Pixels darker than this (0-255) have no reliable chromaticity."""
 MAX_VALUE = 250
@@ -102,6 +119,45 @@ def _climb(surface: np.ndarray, start) -> tuple:
         row, column = best_row, best_column
 
 
+def _correlation(current: np.ndarray, model: np.ndarray, limit: int) -> tuple:
+    """(``current`` padded by ``limit`` bins, the cross-correlation of ``current`` shifted by
+    every shift within ``limit`` bins with ``model``: rows log B/G, columns log R/G, the middle
+    being no shift)."""
+    padded = cv2.copyMakeBorder(current, limit, limit, limit, limit, cv2.BORDER_CONSTANT,
+                                value=0.0)
+    return padded, cv2.matchTemplate(padded, model, cv2.TM_CCORR)
+
+
+def _best_shift(current: np.ndarray, model: np.ndarray, limit: int, reach: int,
+                centre, own_peak: bool):
+    """(shift (log R/G, log B/G) that lays ``current`` on ``model`` best within ``reach`` bins
+    of ``centre`` (bins) and ``limit`` bins of none, preferring of equal fits the one nearer
+    none; the mass they share there), or None when ``own_peak`` and the best fit lies on the
+    edge of the reach (the fit would go on beyond it)."""
+    padded, correlation = _correlation(current, model, limit)
+    shifts = np.arange(-limit, limit + 1)
+    near_column = np.abs(shifts - centre[0]) <= reach
+    near_row = np.abs(shifts - centre[1]) <= reach
+    window = near_row[:, None] & near_column[None, :]
+    prior = np.exp(-0.5 * (shifts / (0.5 * limit)) ** 2)
+    weighted = np.where(window, correlation * prior[:, None] * prior[None, :], -1.0)
+    row, column = _climb(np.where(window, correlation, -1.0),
+                         np.unravel_index(int(np.argmax(weighted)), weighted.shape))
+    if own_peak and (abs(shifts[column] - centre[0]) == reach
+                     or abs(shifts[row] - centre[1]) == reach):
+        return None
+    size = model.shape[0]
+    overlap = float(np.minimum(padded[row:row + size, column:column + size], model).sum())
+    column_offset = (_peak_offset(correlation[row, column - 1], correlation[row, column],
+                                  correlation[row, column + 1])
+                     if 0 < column < 2 * limit else 0.0)
+    row_offset = (_peak_offset(correlation[row - 1, column], correlation[row, column],
+                               correlation[row + 1, column])
+                  if 0 < row < 2 * limit else 0.0)
+    shift = np.array((shifts[column] + column_offset, shifts[row] + row_offset)) * CHROMA_BIN
+    return shift, overlap
+
+
 class WhiteBalanceLock:
     """Channel gains that undo the white-balance drift seen on the reference pixels.
 
@@ -116,50 +172,72 @@ class WhiteBalanceLock:
         """Forget the reference chromaticity: the next frame is learned afresh."""
         self.model = None
         self.shift_log = np.zeros(2)
+        self.last_frame = None
 
-    def track(self, bgr_pixels: np.ndarray):
-        """Follow the drift to this frame's floor pixels (Nx3 uint8 BGR, not corrected)."""
+    def _limit_bins(self) -> int:
+        return max(1, int(np.floor(self.max_shift_log / CHROMA_BIN)))
+
+    def track(self, bgr_pixels: np.ndarray, image: Optional[np.ndarray] = None):
+        """Follow the drift to this frame's floor pixels (Nx3 uint8 BGR, not corrected); with
+        ``image`` (the whole frame, HxWx3 uint8 BGR, not corrected) the shift moves by the step
+        between frames where the floor fits it at least as well, and the floor corrects it only
+        by a peak of its own near it."""
         if self.max_shift_log <= 0.0:
             return
+        step = self._frame_step(image) if image is not None else None
         current = log_chromaticity_histogram(bgr_pixels)
-        if current is None:
-            self.shift_log *= 1.0 - RELAX_RATE
-            return
         if self.model is None:
             self.model = current
             return
-        if not self._measure(current):
-            self.shift_log *= 1.0 - RELAX_RATE
+        if current is None:
+            if step is not None:
+                self.shift_log = self._bounded(self.shift_log + step)
+            else:
+                self.shift_log *= 1.0 - RELAX_RATE
+            return
+        if image is None:
+            if not self._measure(current, STEP_BINS, False):
+                self.shift_log *= 1.0 - RELAX_RATE
+            return
+        if step is not None:
+            predicted = self._bounded(self.shift_log + step)
+            if self._fit(current, predicted) >= self._fit(current, self.shift_log):
+                self.shift_log = predicted
+        self._measure(current, ANCHOR_BINS, True)
 
-    def _measure(self, current: np.ndarray) -> bool:
-        """Move the shift to where ``current`` lies best on the model, near the last shift and,
-        of equal fits, nearer none; False when it fits nowhere near."""
-        limit = max(1, int(np.floor(self.max_shift_log / CHROMA_BIN)))
-        padded = cv2.copyMakeBorder(current, limit, limit, limit, limit, cv2.BORDER_CONSTANT,
-                                    value=0.0)
-        correlation = cv2.matchTemplate(padded, self.model, cv2.TM_CCORR)
+    def _bounded(self, shift_log: np.ndarray) -> np.ndarray:
+        return np.clip(shift_log, -self.max_shift_log, self.max_shift_log)
+
+    def _fit(self, current: np.ndarray, shift_log: np.ndarray) -> float:
+        """How well ``current`` shifted back by ``shift_log`` lies on the model (correlation at
+        the nearest bin)."""
+        limit = self._limit_bins()
+        column, row = np.clip(np.rint(shift_log / CHROMA_BIN).astype(int), -limit, limit) + limit
+        return float(_correlation(current, self.model, limit)[1][row, column])
+
+    def _frame_step(self, image: np.ndarray) -> Optional[np.ndarray]:
+        """The log-chromaticity shift (log R/G, log B/G) from the last frame to ``image`` over
+        the whole image (every second pixel), or None when either has too few usable pixels,
+        they share too little (another scene) or the best fit lies beyond a drift's pace."""
+        current = log_chromaticity_histogram(image[::2, ::2].reshape(-1, 3))
+        last, self.last_frame = self.last_frame, current
+        if current is None or last is None:
+            return None
+        found = _best_shift(current, last, self._limit_bins(), FRAME_STEP_BINS,
+                            np.zeros(2, int), True)
+        if found is None or found[1] < MIN_FRAME_OVERLAP:
+            return None
+        return found[0]
+
+    def _measure(self, current: np.ndarray, reach: int, own_peak: bool) -> bool:
+        """Move the shift to where ``current`` lies best on the model, within ``reach`` bins of
+        the shift now and, of equal fits, nearer none; with ``own_peak`` only to a peak inside
+        that reach. False when it fits nowhere near."""
         previous = np.rint(self.shift_log / CHROMA_BIN).astype(int)
-        shifts = np.arange(-limit, limit + 1)
-        near_column = np.abs(shifts - previous[0]) <= STEP_BINS
-        near_row = np.abs(shifts - previous[1]) <= STEP_BINS
-        window = near_row[:, None] & near_column[None, :]
-        prior = np.exp(-0.5 * (shifts / (0.5 * limit)) ** 2)
-        weighted = np.where(window, correlation * prior[:, None] * prior[None, :], -1.0)
-        row, column = _climb(np.where(window, correlation, -1.0),
-                             np.unravel_index(int(np.argmax(weighted)), weighted.shape))
-        size = self.model.shape[0]
-        overlap = float(np.minimum(padded[row:row + size, column:column + size],
-                                   self.model).sum())
-        if overlap < MIN_OVERLAP:
+        found = _best_shift(current, self.model, self._limit_bins(), reach, previous, own_peak)
+        if found is None or found[1] < MIN_OVERLAP:
             return False
-        column_offset = (_peak_offset(correlation[row, column - 1], correlation[row, column],
-                                      correlation[row, column + 1])
-                         if 0 < column < 2 * limit else 0.0)
-        row_offset = (_peak_offset(correlation[row - 1, column], correlation[row, column],
-                                   correlation[row + 1, column])
-                      if 0 < row < 2 * limit else 0.0)
-        shift = np.array((shifts[column] + column_offset, shifts[row] + row_offset)) * CHROMA_BIN
-        self.shift_log = np.clip(shift, -self.max_shift_log, self.max_shift_log)
+        self.shift_log = self._bounded(found[0])
         return True
 
     def learn(self, bgr_pixels: np.ndarray, rate: float):
