@@ -201,19 +201,25 @@ class WhiteBalanceLock:
             return
         if step is not None:
             predicted = self._bounded(self.shift_log + step)
-            if self._fit(current, predicted) >= self._fit(current, self.shift_log):
+            fit_predicted, fit_last = self._fits(current, (predicted, self.shift_log))
+            if fit_predicted >= fit_last:
                 self.shift_log = predicted
         self._measure(current, ANCHOR_BINS, True)
 
     def _bounded(self, shift_log: np.ndarray) -> np.ndarray:
         return np.clip(shift_log, -self.max_shift_log, self.max_shift_log)
 
-    def _fit(self, current: np.ndarray, shift_log: np.ndarray) -> float:
-        """How well ``current`` shifted back by ``shift_log`` lies on the model (correlation at
-        the nearest bin)."""
+    def _fits(self, current: np.ndarray, shifts_log) -> list:
+        """How well ``current`` shifted back by each of ``shifts_log`` lies on the model
+        (correlation at the nearest bin; one correlation for all of them)."""
         limit = self._limit_bins()
-        column, row = np.clip(np.rint(shift_log / CHROMA_BIN).astype(int), -limit, limit) + limit
-        return float(_correlation(current, self.model, limit)[1][row, column])
+        correlation = _correlation(current, self.model, limit)[1]
+        fits = []
+        for shift_log in shifts_log:
+            column, row = np.clip(np.rint(shift_log / CHROMA_BIN).astype(int), -limit,
+                                  limit) + limit
+            fits.append(float(correlation[row, column]))
+        return fits
 
     def _frame_step(self, image: np.ndarray) -> Optional[np.ndarray]:
         """The log-chromaticity shift (log R/G, log B/G) from the last frame to ``image`` over
