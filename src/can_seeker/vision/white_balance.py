@@ -128,13 +128,14 @@ def _correlation(current: np.ndarray, model: np.ndarray, limit: int) -> tuple:
     return padded, cv2.matchTemplate(padded, model, cv2.TM_CCORR)
 
 
-def _best_shift(current: np.ndarray, model: np.ndarray, limit: int, reach: int,
-                centre, own_peak: bool):
-    """(shift (log R/G, log B/G) that lays ``current`` on ``model`` best within ``reach`` bins
+def _best_shift(surfaces: tuple, model: np.ndarray, limit: int, reach: int, centre,
+                own_peak: bool):
+    """(shift (log R/G, log B/G) that lays a histogram on ``model`` best within ``reach`` bins
     of ``centre`` (bins) and ``limit`` bins of none, preferring of equal fits the one nearer
     none; the mass they share there), or None when ``own_peak`` and the best fit lies on the
-    edge of the reach (the fit would go on beyond it)."""
-    padded, correlation = _correlation(current, model, limit)
+    edge of the reach (the fit would go on beyond it). ``surfaces`` is :func:`_correlation`'s
+    (padded histogram, correlation) of it with ``model`` within ``limit``."""
+    padded, correlation = surfaces
     shifts = np.arange(-limit, limit + 1)
     near_column = np.abs(shifts - centre[0]) <= reach
     near_row = np.abs(shifts - centre[1]) <= reach
@@ -196,30 +197,26 @@ class WhiteBalanceLock:
                 self.shift_log *= 1.0 - RELAX_RATE
             return
         if image is None:
-            if not self._measure(current, STEP_BINS, False):
+            if not self._measure(_correlation(current, self.model, self._limit_bins()),
+                                 STEP_BINS, False):
                 self.shift_log *= 1.0 - RELAX_RATE
             return
+        surfaces = _correlation(current, self.model, self._limit_bins())
         if step is not None:
             predicted = self._bounded(self.shift_log + step)
-            fit_predicted, fit_last = self._fits(current, (predicted, self.shift_log))
-            if fit_predicted >= fit_last:
+            if self._fit(surfaces[1], predicted) >= self._fit(surfaces[1], self.shift_log):
                 self.shift_log = predicted
-        self._measure(current, ANCHOR_BINS, True)
+        self._measure(surfaces, ANCHOR_BINS, True)
 
     def _bounded(self, shift_log: np.ndarray) -> np.ndarray:
         return np.clip(shift_log, -self.max_shift_log, self.max_shift_log)
 
-    def _fits(self, current: np.ndarray, shifts_log) -> list:
-        """How well ``current`` shifted back by each of ``shifts_log`` lies on the model
-        (correlation at the nearest bin; one correlation for all of them)."""
+    def _fit(self, correlation: np.ndarray, shift_log: np.ndarray) -> float:
+        """How well the floor's histogram shifted back by ``shift_log`` lies on the model: its
+        ``correlation`` (see :func:`_correlation`) at the nearest bin."""
         limit = self._limit_bins()
-        correlation = _correlation(current, self.model, limit)[1]
-        fits = []
-        for shift_log in shifts_log:
-            column, row = np.clip(np.rint(shift_log / CHROMA_BIN).astype(int), -limit,
-                                  limit) + limit
-            fits.append(float(correlation[row, column]))
-        return fits
+        column, row = np.clip(np.rint(shift_log / CHROMA_BIN).astype(int), -limit, limit) + limit
+        return float(correlation[row, column])
 
     def _frame_step(self, image: np.ndarray) -> Optional[np.ndarray]:
         """The log-chromaticity shift (log R/G, log B/G) from the last frame to ``image`` over
@@ -229,18 +226,20 @@ class WhiteBalanceLock:
         last, self.last_frame = self.last_frame, current
         if current is None or last is None:
             return None
-        found = _best_shift(current, last, self._limit_bins(), FRAME_STEP_BINS,
+        limit = self._limit_bins()
+        found = _best_shift(_correlation(current, last, limit), last, limit, FRAME_STEP_BINS,
                             np.zeros(2, int), True)
         if found is None or found[1] < MIN_FRAME_OVERLAP:
             return None
         return found[0]
 
-    def _measure(self, current: np.ndarray, reach: int, own_peak: bool) -> bool:
-        """Move the shift to where ``current`` lies best on the model, within ``reach`` bins of
+    def _measure(self, surfaces: tuple, reach: int, own_peak: bool) -> bool:
+        """Move the shift to where the floor's histogram (``surfaces``: its
+        :func:`_correlation` with the model) lies best on the model, within ``reach`` bins of
         the shift now and, of equal fits, nearer none; with ``own_peak`` only to a peak inside
         that reach. False when it fits nowhere near."""
         previous = np.rint(self.shift_log / CHROMA_BIN).astype(int)
-        found = _best_shift(current, self.model, self._limit_bins(), reach, previous, own_peak)
+        found = _best_shift(surfaces, self.model, self._limit_bins(), reach, previous, own_peak)
         if found is None or found[1] < MIN_OVERLAP:
             return False
         self.shift_log = self._bounded(found[0])
