@@ -145,38 +145,9 @@ def test_driving_over_tiles_of_near_colours_is_no_drift():
     assert alone_largest > 3 * CHROMA_BIN
 
 
-NEARER_TILE = (161, 168, 141)
-"""BGR: a tile 0.02 from GREEN_GREY_TILE in log R/G and in log B/G, within the floor's anchor
-reach of it."""
-
-
-def test_a_tile_in_front_of_the_robot_for_a_moment_barely_moves_the_shift():
-    """The lock learned one tile; the robot turns onto a tile of a colour within the anchor's
-    reach while the whole image stays as it was. The floor alone lays the new tile on the known
-    one and moved the shift all the way to it in a frame, where the classifier's own floor
-    pixels then held it (the whole floor turned obstacle); it only pulls the shift a little a
-    frame now, and lets go once the known tile is back."""
-    rng = np.random.default_rng(3)
-
-    def tile(bgr):
-        pixels = np.array(bgr, float)[None, :] + rng.normal(0.0, 2.0, (12000, 3))
-        return np.clip(np.rint(pixels), 0, 255).astype(np.uint8)
-
-    lock = WhiteBalanceLock(0.3)
-    lock.track(tile(GREEN_GREY_TILE), scene(0.5))
-    for step in range(1, 7):
-        lock.track(tile(NEARER_TILE), scene(0.5, seed=step))
-    assert np.abs(lock.shift_log).max() < 0.5 * CHROMA_BIN
-    for step in range(7, 40):
-        lock.track(tile(GREEN_GREY_TILE), scene(0.5, seed=step))
-    assert np.abs(lock.shift_log).max() < 0.25 * CHROMA_BIN
-
-
 def test_with_the_whole_image_the_shift_follows_a_drift_and_a_jump_the_floor_refutes_is_not_taken():
     """A drift moves the whole image and the floor alike: the shift follows it. A scene change
-    that looks like one (the frame turns redder as a whole) while the floor stays is no drift.
-    The frame steps measure a drift of a third of a bin a frame to within a fraction of a bin,
-    and the floor corrects their sum only slowly: the shift lags by under a bin."""
+    that looks like one (the frame turns redder as a whole) while the floor stays is no drift."""
     lock = WhiteBalanceLock(0.3)
     lock.track(near_tiles(0.5), scene(0.5))
     red_log, blue_log = 0.0, 0.0
@@ -184,7 +155,7 @@ def test_with_the_whole_image_the_shift_follows_a_drift_and_a_jump_the_floor_ref
         red_log, blue_log = 0.006 * step, -0.004 * step
         gains = drift_gains(red_log, blue_log)
         lock.track(near_tiles(0.5, gains, seed=step), scene(0.5, gains, seed=step))
-    assert lock.shift_log == pytest.approx((red_log, blue_log), abs=0.8 * CHROMA_BIN)
+    assert lock.shift_log == pytest.approx((red_log, blue_log), abs=0.006)
     held = lock.shift_log.copy()
     gains = drift_gains(red_log, blue_log)
     lock.track(near_tiles(0.5, gains, seed=99), scene(0.5, drift_gains(red_log + 0.08, blue_log)))

@@ -18,11 +18,8 @@ colour: both move the reference area's colours. A drift moves every colour of th
 once, a new tile only those in front of the robot, and two frames in a row show nearly the same
 scene. Given the whole image, the lock therefore predicts the shift from the last one plus
 the shift between this frame's whole-image histogram and the last frame's, and lets the floor
-correct that prediction only by a peak of its own within ANCHOR_BINS of it, and only slowly
-(ANCHOR_GAIN): a floor that would pull the shift farther (it lays a new tile onto a known one)
-corrects nothing, and a near tile in front of the robot for a moment corrects it little. Were
-the floor to move the shift at once, the classifier's own floor pixels, chosen with that shift,
-would hold it there.
+correct that prediction only by a peak of its own within ANCHOR_BINS of it: a floor that would
+pull the shift farther (it lays a new tile onto a known one) corrects nothing.
 """
 from typing import Optional
 
@@ -46,10 +43,6 @@ pulls its own drift back at about this pace)."""
 ANCHOR_BINS = 2
 """With the whole image's step known, the floor corrects the predicted shift only by a
 correlation peak within this many bins of it."""
-ANCHOR_GAIN = 0.05
-"""...and only by this fraction of the way to that peak a frame: the frame steps carry the
-drift, the floor only keeps their sum from wandering (a time constant of some 20 frames), so a
-tile that fills the reference area for a moment barely moves the shift."""
 MIN_FRAME_OVERLAP = 0.7
 """Two frames' whole-image histograms must share at least this much mass (0-1), shifted by the
 step between them, for the step to count (a frame that shows a new scene gives none)."""
@@ -213,7 +206,7 @@ class WhiteBalanceLock:
             predicted = self._bounded(self.shift_log + step)
             if self._fit(surfaces[1], predicted) >= self._fit(surfaces[1], self.shift_log):
                 self.shift_log = predicted
-        self._measure(surfaces, ANCHOR_BINS, True, ANCHOR_GAIN)
+        self._measure(surfaces, ANCHOR_BINS, True)
 
     def _bounded(self, shift_log: np.ndarray) -> np.ndarray:
         return np.clip(shift_log, -self.max_shift_log, self.max_shift_log)
@@ -240,16 +233,16 @@ class WhiteBalanceLock:
             return None
         return found[0]
 
-    def _measure(self, surfaces: tuple, reach: int, own_peak: bool, gain: float = 1.0) -> bool:
+    def _measure(self, surfaces: tuple, reach: int, own_peak: bool) -> bool:
         """Move the shift to where the floor's histogram (``surfaces``: its
         :func:`_correlation` with the model) lies best on the model, within ``reach`` bins of
         the shift now and, of equal fits, nearer none; with ``own_peak`` only to a peak inside
-        that reach; by ``gain`` (0-1) of the way there. False when it fits nowhere near."""
+        that reach. False when it fits nowhere near."""
         previous = np.rint(self.shift_log / CHROMA_BIN).astype(int)
         found = _best_shift(surfaces, self.model, self._limit_bins(), reach, previous, own_peak)
         if found is None or found[1] < MIN_OVERLAP:
             return False
-        self.shift_log = self._bounded(self.shift_log + gain * (found[0] - self.shift_log))
+        self.shift_log = self._bounded(found[0])
         return True
 
     def learn(self, bgr_pixels: np.ndarray, rate: float):
