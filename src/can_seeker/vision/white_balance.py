@@ -196,12 +196,11 @@ class WhiteBalanceLock:
             else:
                 self.shift_log *= 1.0 - RELAX_RATE
             return
+        surfaces = _correlation(current, self.model, self._limit_bins())
         if image is None:
-            if not self._measure(_correlation(current, self.model, self._limit_bins()),
-                                 STEP_BINS, False):
+            if not self._measure(surfaces, STEP_BINS, False):
                 self.shift_log *= 1.0 - RELAX_RATE
             return
-        surfaces = _correlation(current, self.model, self._limit_bins())
         if step is not None:
             predicted = self._bounded(self.shift_log + step)
             if self._fit(surfaces[1], predicted) >= self._fit(surfaces[1], self.shift_log):
