@@ -39,8 +39,9 @@ colour of the image by the same shift. The adaptive model therefore also keeps t
 area's log-chromaticity histogram; each frame it follows the shift between the last frame and
 this one over the whole image (a drift moves every colour, driving onto another tile only those
 in front of the robot), holds it to the shift that lays the reference area back on the floor's
-colours nearby, and undoes it on the whole image before classifying (von Kries' chromatic
-adaptation, anchored on the floor; :mod:`can_seeker.vision.white_balance`). The shift follows a
+colours nearby where that keeps at least as much of the frame floor, and undoes it on the
+whole image before classifying (von Kries' chromatic adaptation, anchored on the floor;
+:mod:`can_seeker.vision.white_balance`). The shift follows a
 drift's pace and stays within ``~max_colour_shift``; a colour that differs from the floor's by
 more is never explained away as white balance.
 
@@ -60,7 +61,8 @@ import numpy as np
 
 from can_seeker.params import Param
 from can_seeker.vision.vignetting import VignettingEstimate
-from can_seeker.vision.white_balance import CHROMA_SIZE, WhiteBalanceLock, chromaticity_bins
+from can_seeker.vision.white_balance import (CHROMA_SIZE, WhiteBalanceLock, chromaticity_bins,
+                                             undo_shift)
 
 FLOOR_MODELS = ('adaptive', 'dark')
 
@@ -329,7 +331,8 @@ class FloorClassifier:
                 top = int(self.reference_corners[:, 1].min())
                 features = self._features(self.white_balance.correct(bgr[top:]))
                 floor_before = reference[top:] & (self._obstacle_pixels(features) == 0)
-                self.white_balance.track(bgr[top:][floor_before], bgr)
+                self.white_balance.track(bgr[top:][floor_before], bgr,
+                                         lambda shift_log: self._floor_share(bgr, shift_log))
                 bgr = self.white_balance.correct(bgr)
             features = self._features(bgr)
             raw = self._obstacle_pixels(features)
@@ -383,6 +386,18 @@ class FloorClassifier:
         else:
             rate = self.settings.adapt_rate
             self.chroma_model = (1.0 - rate) * self.chroma_model + rate * current
+
+    def _floor_share(self, bgr, shift_log):
+        """Share (0-1) of the frame ``bgr`` (every second pixel) the floor models take for
+        floor with the log-chromaticity shift ``shift_log`` undone. The chromaticity test's
+        medians are taken before the shift is undone: a channel's median commutes with its
+        gain."""
+        sample = undo_shift(bgr[::2, ::2], shift_log)
+        obstacle = self._obstacle_pixels(self._features(sample)) != 0
+        if self.settings.min_chroma_fraction > 0.0 and self.chroma_model is not None:
+            medians = undo_shift(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX)[::2, ::2], shift_log)
+            obstacle |= self._chroma_obstacles(chromaticity_bins(medians, CHROMA_MIN_VALUE))
+        return 1.0 - float(np.count_nonzero(obstacle)) / obstacle.size
 
     def _obstacle_pixels(self, features):
         """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model, or

@@ -19,9 +19,15 @@ once, a new tile only those in front of the robot, and two frames in a row show 
 scene. Given the whole image, the lock therefore predicts the shift from the last one plus
 the shift between this frame's whole-image histogram and the last frame's, and lets the floor
 correct that prediction only by a peak of its own within ANCHOR_BINS of it: a floor that would
-pull the shift farther (it lays a new tile onto a known one) corrects nothing.
+pull the shift farther (it lays a new tile onto a known one) corrects nothing. A new tile can
+still lie within that reach of a known one; its peak then pulls the shift onto it, and the
+known floor elsewhere in view turns to obstacle under the new correction. Given the
+classifier's verdict (the share of the frame that is floor under a shift), the lock takes the
+floor's correction only where it keeps at least as much of the frame floor as the prediction
+does: a drift's correction lays the floor back on its model and keeps or grows that share, a
+tile taken for a drift shrinks it.
 """
-from typing import Optional
+from typing import Callable, Optional
 
 import cv2
 import numpy as np
@@ -178,11 +184,14 @@ class WhiteBalanceLock:
     def _limit_bins(self) -> int:
         return max(1, int(np.floor(self.max_shift_log / CHROMA_BIN)))
 
-    def track(self, bgr_pixels: np.ndarray, image: Optional[np.ndarray] = None):
+    def track(self, bgr_pixels: np.ndarray, image: Optional[np.ndarray] = None,
+              floor_share: Optional[Callable[[np.ndarray], float]] = None):
         """Follow the drift to this frame's floor pixels (Nx3 uint8 BGR, not corrected); with
         ``image`` (the whole frame, HxWx3 uint8 BGR, not corrected) the shift moves by the step
         between frames where the floor fits it at least as well, and the floor corrects it only
-        by a peak of its own near it."""
+        by a peak of its own near it; with ``floor_share`` (a shift (log R/G, log B/G) -> the
+        share 0-1 of the frame that is floor with it undone) only where that share does not
+        shrink."""
         if self.max_shift_log <= 0.0:
             return
         step = self._frame_step(image) if image is not None else None
@@ -205,7 +214,11 @@ class WhiteBalanceLock:
             predicted = self._bounded(self.shift_log + step)
             if self._fit(surfaces[1], predicted) >= self._fit(surfaces[1], self.shift_log):
                 self.shift_log = predicted
-        self._measure(surfaces, ANCHOR_BINS, True)
+        predicted = self.shift_log.copy()
+        if (self._measure(surfaces, ANCHOR_BINS, True) and floor_share is not None
+                and np.any(self.shift_log != predicted)
+                and floor_share(self.shift_log) < floor_share(predicted)):
+            self.shift_log = predicted
 
     def _bounded(self, shift_log: np.ndarray) -> np.ndarray:
         return np.clip(shift_log, -self.max_shift_log, self.max_shift_log)
@@ -255,15 +268,27 @@ class WhiteBalanceLock:
     def gains(self) -> Optional[np.ndarray]:
         """Per-channel gains (B, G, R) that undo the drift; None while there is none to undo
         (under half a bin either way)."""
-        if np.all(np.abs(self.shift_log) < 0.5 * CHROMA_BIN):
-            return None
-        return np.array((np.exp(-self.shift_log[1]), 1.0, np.exp(-self.shift_log[0])))
+        return shift_gains(self.shift_log)
 
     def correct(self, bgr: np.ndarray) -> np.ndarray:
         """``bgr`` with the drift undone (the same array when there is none)."""
-        gains = self.gains()
-        if gains is None:
-            return bgr
-        levels = np.arange(256, dtype=np.float64)[:, None] * gains[None, :]
-        table = np.clip(np.rint(levels), 0, 255).astype(np.uint8).reshape(256, 1, 3)
-        return cv2.LUT(bgr, table)
+        return undo_shift(bgr, self.shift_log)
+
+
+def shift_gains(shift_log: np.ndarray) -> Optional[np.ndarray]:
+    """Per-channel gains (B, G, R) that undo a log-chromaticity shift (log R/G, log B/G); None
+    under half a bin either way."""
+    if np.all(np.abs(shift_log) < 0.5 * CHROMA_BIN):
+        return None
+    return np.array((np.exp(-shift_log[1]), 1.0, np.exp(-shift_log[0])))
+
+
+def undo_shift(bgr: np.ndarray, shift_log: np.ndarray) -> np.ndarray:
+    """uint8 BGR pixels (any shape ending in 3) with a log-chromaticity shift undone (the same
+    array when it is under half a bin)."""
+    gains = shift_gains(shift_log)
+    if gains is None:
+        return bgr
+    levels = np.arange(256, dtype=np.float64)[:, None] * gains[None, :]
+    table = np.clip(np.rint(levels), 0, 255).astype(np.uint8).reshape(256, 1, 3)
+    return cv2.LUT(bgr, table)
