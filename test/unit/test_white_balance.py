@@ -3,7 +3,8 @@ whatever the mix of its colours, bounded in pace and size."""
 import numpy as np
 import pytest
 
-from can_seeker.vision.white_balance import CHROMA_BIN, RELAX_RATE, STEP_BINS, WhiteBalanceLock
+from can_seeker.vision.white_balance import (CHROMA_BIN, RELAX_RATE, STEP_BINS, WhiteBalanceLock,
+                                             undo_shift)
 
 WHITE_TILE = (205, 205, 200)
 LAVENDER_TILE = (200, 170, 180)
@@ -160,3 +161,69 @@ def test_with_the_whole_image_the_shift_follows_a_drift_and_a_jump_the_floor_ref
     gains = drift_gains(red_log, blue_log)
     lock.track(near_tiles(0.5, gains, seed=99), scene(0.5, drift_gains(red_log + 0.08, blue_log)))
     assert lock.shift_log == pytest.approx(held, abs=0.006)
+
+
+BROWN_TILE = (129, 141, 170)
+PINK_TILE = (161, 177, 220)
+"""BGR: a brown and a pink tile 0.03 apart in log R/G, within the floor's reach of each other."""
+
+
+def brown_pink(pink_fraction, count, gains_bgr=(1.0, 1.0, 1.0), seed=0):
+    """Nx3 uint8 pixels of a brown and pink floor seen through channel gains, with noise."""
+    rng = np.random.default_rng(seed)
+    pink = rng.random(count) < pink_fraction
+    pixels = np.where(pink[:, None], np.array(PINK_TILE, float), np.array(BROWN_TILE, float))
+    pixels = pixels * np.asarray(gains_bgr)[None, :] + rng.normal(0.0, 2.0, pixels.shape)
+    return np.clip(np.rint(pixels), 0, 255).astype(np.uint8)
+
+
+def known_tiles_share(scene):
+    """The verdict of a floor model that knows the two tiles: shift -> the share of ``scene``
+    (HxWx3 uint8 BGR) within two bins of a tile's log chromaticity with the shift undone."""
+    def log_chromaticity(bgr):
+        levels = np.maximum(bgr.astype(float), 0.5)
+        return np.stack((np.log(levels[..., 2] / levels[..., 1]),
+                         np.log(levels[..., 0] / levels[..., 1])), axis=-1)
+    tiles = log_chromaticity(np.array((BROWN_TILE, PINK_TILE), float))
+
+    def share(shift_log):
+        colours = log_chromaticity(undo_shift(scene, shift_log).reshape(-1, 3))
+        distance = np.abs(colours[:, None, :] - tiles[None, :, :]).max(axis=2).min(axis=1)
+        return float(np.mean(distance <= 2 * CHROMA_BIN))
+    return share
+
+
+def test_a_floor_correction_that_turns_known_floor_into_obstacle_is_not_taken():
+    """The lock learned a mostly brown floor; the reference area then holds only the pink tile
+    while the frame shows both, and nothing drifts. Laid on the model's larger brown peak, the
+    pink pulls the shift 1.3 bins, and the brown in view would leave the floor's colours; with
+    the floor model's verdict the lock refuses that correction and the shift stays none."""
+    shifts = {}
+    for judged in (False, True):
+        lock = WhiteBalanceLock(0.3)
+        lock.track(brown_pink(0.2, 6000), brown_pink(0.5, 120 * 160).reshape(120, 160, 3))
+        for step in range(1, 11):
+            scene = brown_pink(0.5, 120 * 160, seed=step).reshape(120, 160, 3)
+            lock.track(brown_pink(1.0, 6000, seed=100 + step), scene,
+                       known_tiles_share(scene) if judged else None)
+        shifts[judged] = lock.shift_log
+    assert np.abs(shifts[False]).max() > CHROMA_BIN
+    assert np.abs(shifts[True]).max() < 0.25 * CHROMA_BIN
+
+
+def test_with_the_floor_models_verdict_the_floor_still_corrects_a_drift():
+    """A drift lays the floor back on its colours where it is undone, so the verdict takes the
+    floor's correction. Each frame shows a wall of another colour beside the floor, so two
+    frames in a row share too little for a step between them: the floor alone follows."""
+    walls = ((200, 90, 60), (60, 160, 80))
+    lock = WhiteBalanceLock(0.3)
+    lock.track(brown_pink(0.5, 6000), brown_pink(0.5, 120 * 160).reshape(120, 160, 3))
+    red_log, blue_log = 0.0, 0.0
+    for step in range(1, 21):
+        red_log, blue_log = -0.006 * step, 0.004 * step
+        gains = drift_gains(red_log, blue_log)
+        scene = brown_pink(0.5, 120 * 160, gains, seed=step).reshape(120, 160, 3)
+        scene[:, :80] = walls[step % 2]
+        lock.track(brown_pink(0.5, 6000, gains, seed=100 + step), scene,
+                   known_tiles_share(scene))
+    assert lock.shift_log == pytest.approx((red_log, blue_log), abs=0.006)
