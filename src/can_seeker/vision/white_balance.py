@@ -284,8 +284,8 @@ def shift_gains(shift_log: np.ndarray) -> Optional[np.ndarray]:
 
 
 def undo_shift(bgr: np.ndarray, shift_log: np.ndarray) -> np.ndarray:
-    """uint8 BGR pixels (any shape ending in 3) with a log-chromaticity shift undone (the same
-    array when it is under half a bin)."""
+    """An HxWx3 uint8 BGR image with a log-chromaticity shift undone (the same array when it is
+    under half a bin)."""
     gains = shift_gains(shift_log)
     if gains is None:
         return bgr
