@@ -331,8 +331,7 @@ class FloorClassifier:
                 top = int(self.reference_corners[:, 1].min())
                 features = self._features(self.white_balance.correct(bgr[top:]))
                 floor_before = reference[top:] & (self._obstacle_pixels(features) == 0)
-                self.white_balance.track(bgr[top:][floor_before], bgr,
-                                         lambda shift_log: self._floor_share(bgr, shift_log))
+                self.white_balance.track(bgr[top:][floor_before], bgr, self._floor_share(bgr))
                 bgr = self.white_balance.correct(bgr)
             features = self._features(bgr)
             raw = self._obstacle_pixels(features)
@@ -387,17 +386,23 @@ class FloorClassifier:
             rate = self.settings.adapt_rate
             self.chroma_model = (1.0 - rate) * self.chroma_model + rate * current
 
-    def _floor_share(self, bgr, shift_log):
-        """Share (0-1) of the frame ``bgr`` (every second pixel) the floor models take for
-        floor with the log-chromaticity shift ``shift_log`` undone. The chromaticity test's
-        medians are taken before the shift is undone: a channel's median commutes with its
+    def _floor_share(self, bgr):
+        """shift (log R/G, log B/G) -> the share (0-1) of the frame ``bgr`` (every second pixel)
+        the floor models take for floor with that shift undone. The chromaticity test's medians
+        are taken once, before any shift is undone: a channel's median commutes with its
         gain."""
-        sample = undo_shift(bgr[::2, ::2], shift_log)
-        obstacle = self._obstacle_pixels(self._features(sample)) != 0
-        if self.settings.min_chroma_fraction > 0.0 and self.chroma_model is not None:
-            medians = undo_shift(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX)[::2, ::2], shift_log)
-            obstacle |= self._chroma_obstacles(chromaticity_bins(medians, CHROMA_MIN_VALUE))
-        return 1.0 - float(np.count_nonzero(obstacle)) / obstacle.size
+        sample = bgr[::2, ::2]
+        medians = []
+
+        def share(shift_log):
+            obstacle = self._obstacle_pixels(self._features(undo_shift(sample, shift_log))) != 0
+            if self.settings.min_chroma_fraction > 0.0 and self.chroma_model is not None:
+                if not medians:
+                    medians.append(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX)[::2, ::2])
+                chroma = chromaticity_bins(undo_shift(medians[0], shift_log), CHROMA_MIN_VALUE)
+                obstacle |= self._chroma_obstacles(chroma)
+            return 1.0 - float(np.count_nonzero(obstacle)) / obstacle.size
+        return share
 
     def _obstacle_pixels(self, features):
         """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model, or
