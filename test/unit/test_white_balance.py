@@ -177,14 +177,15 @@ def brown_pink(pink_fraction, count, gains_bgr=(1.0, 1.0, 1.0), seed=0):
     return np.clip(np.rint(pixels), 0, 255).astype(np.uint8)
 
 
-def known_tiles_share(scene):
-    """The verdict of a floor model that knows the two tiles: shift -> the share of ``scene``
-    (HxWx3 uint8 BGR) within two bins of a tile's log chromaticity with the shift undone."""
+def known_tiles_share(scene, known=(BROWN_TILE, PINK_TILE)):
+    """The verdict of a floor model that knows the ``known`` tiles (BGR): shift -> the share of
+    ``scene`` (HxWx3 uint8 BGR) within two bins of a tile's log chromaticity with the shift
+    undone."""
     def log_chromaticity(bgr):
         levels = np.maximum(bgr.astype(float), 0.5)
         return np.stack((np.log(levels[..., 2] / levels[..., 1]),
                          np.log(levels[..., 0] / levels[..., 1])), axis=-1)
-    tiles = log_chromaticity(np.array((BROWN_TILE, PINK_TILE), float))
+    tiles = log_chromaticity(np.array(known, float))
 
     def share(shift_log):
         colours = log_chromaticity(undo_shift(scene, shift_log).reshape(-1, 3))
@@ -227,3 +228,54 @@ def test_with_the_floor_models_verdict_the_floor_still_corrects_a_drift():
         lock.track(brown_pink(0.5, 6000, gains, seed=100 + step), scene,
                    known_tiles_share(scene))
     assert lock.shift_log == pytest.approx((red_log, blue_log), abs=0.006)
+
+
+DARK_GREEN_TILE = (85, 102, 87)
+LIGHT_GREEN_TILE = (150, 181, 147)
+GREEN_TILES = (DARK_GREEN_TILE, LIGHT_GREEN_TILE)
+"""BGR: a dark and a light green tile 0.05 apart in log R/G (a checker seen up close)."""
+
+
+def turning_over_tiles(light_columns, gains_bgr=(1.0, 1.0, 1.0), seed=0):
+    """A 120x160 frame of two large tiles: light from column ``light_columns`` on, dark left of
+    it, seen through channel gains, with noise."""
+    rng = np.random.default_rng(seed)
+    frame = np.empty((120, 160, 3))
+    frame[:, :light_columns] = DARK_GREEN_TILE
+    frame[:, light_columns:] = LIGHT_GREEN_TILE
+    frame = frame * np.asarray(gains_bgr)[None, None, :] + rng.normal(0.0, 2.0, frame.shape)
+    return np.clip(np.rint(frame), 0, 255).astype(np.uint8)
+
+
+def turning(edges, drift_per_frame_log=(0.0, 0.0)):
+    """A lock that learned the two tiles half and half, then followed a turn over them that
+    moves their edge to each of ``edges`` (columns) under a drift of so much a frame, while an
+    object covers the reference area (no floor pixels in it): only the steps between frames
+    move the shift. Returns (the lock, the largest shift on the way in bins, the drift)."""
+    lock = WhiteBalanceLock(0.3)
+    frame = turning_over_tiles(80)
+    lock.track(frame[60:].reshape(-1, 3), frame)
+    largest, drift = 0.0, np.zeros(2)
+    for step, edge in enumerate(edges, start=1):
+        drift = step * np.asarray(drift_per_frame_log, float)
+        lock.track(np.zeros((0, 3), np.uint8), turning_over_tiles(edge, drift_gains(*drift),
+                                                                   seed=step))
+        largest = max(largest, float(np.abs(lock.shift_log).max()) / CHROMA_BIN)
+    return lock, largest, drift
+
+
+def test_turning_over_large_tiles_of_near_colours_is_no_step():
+    """The robot turns on the spot over two large tiles of near colours: their edge sweeps
+    across the image, so the mix of the two colours in view goes from mostly dark to mostly
+    light and back while nothing drifts. The whole image's histogram moves as under a drift
+    (steps read from it added up to 1.4 bins); the pixels that stay on their tile do not change
+    colour, and the shift stays under a third of a bin."""
+    sweep = list(range(150, 10, -7)) + list(range(10, 150, 7))
+    assert turning(sweep * 2)[1] < 0.35
+
+
+def test_turning_over_large_tiles_the_steps_follow_a_drift():
+    """The same turn under a drift of 0.3 bin a frame: the pixels that stay on their tile carry
+    it, and the shift follows (steps read from the whole image's histogram ended 3 bins off)."""
+    lock, _, drift = turning(range(150, 10, -7), (0.006, -0.004))
+    assert lock.shift_log == pytest.approx(drift, abs=0.5 * CHROMA_BIN)

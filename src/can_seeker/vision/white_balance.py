@@ -17,9 +17,13 @@ The floor alone cannot tell a drift from the robot driving onto a tile of a slig
 colour: both move the reference area's colours. A drift moves every colour of the image at
 once, a new tile only those in front of the robot, and two frames in a row show nearly the same
 scene. Given the whole image, the lock therefore predicts the shift from the last one plus
-the shift between this frame's whole-image histogram and the last frame's, and lets the floor
-correct that prediction only by a peak of its own within ANCHOR_BINS of it: a floor that would
-pull the shift farther (it lays a new tile onto a known one) corrects nothing. A new tile can
+the step between the two frames, and lets the floor correct that prediction only by a peak of
+its own within ANCHOR_BINS of it. The step is measured pixel by pixel, not on histograms: a
+robot turning over tiles of two near colours changes their mix in view, which moves a
+histogram's peak as a drift would, but a pixel that still shows the same surface (its
+brightness changed only as the whole frame's did) changes its chromaticity only by the drift,
+and the mean of the middle half of those pixels' changes is the drift's step. A floor that would pull the shift
+farther than ANCHOR_BINS (it lays a new tile onto a known one) corrects nothing. A new tile can
 still lie within that reach of a known one; its peak then pulls the shift onto it, and the
 known floor elsewhere in view turns to obstacle under the new correction. Given the
 classifier's verdict (the share of the frame that is floor under a shift), the lock takes the
@@ -49,9 +53,13 @@ pulls its own drift back at about this pace)."""
 ANCHOR_BINS = 2
 """With the whole image's step known, the floor corrects the predicted shift only by a
 correlation peak within this many bins of it."""
-MIN_FRAME_OVERLAP = 0.7
-"""Two frames' whole-image histograms must share at least this much mass (0-1), shifted by the
-step between them, for the step to count (a frame that shows a new scene gives none)."""
+SAME_SURFACE_LOG = 0.1
+"""A pixel whose brightness (log green) changed from the last frame by more than this, beyond
+the whole frame's median change (exposure), shows another surface now: it says nothing about
+the drift."""
+MIN_SAME_SURFACE = 0.3
+"""At least this share (0-1) of the pixels usable in both frames must show the same surface
+for the step to count (a frame that shows a new scene gives none)."""
 FRAME_STEP_BINS = 2 * STEP_BINS
 """The step between two frames is looked for within this many bins (twice a drift's usual
 pace: a frame may follow a dropped one)."""
@@ -71,6 +79,8 @@ def _ratio_bin_table() -> np.ndarray:
 
 
 RATIO_BIN = _ratio_bin_table()
+LOG_LEVEL = np.log(np.arange(256, dtype=np.float32) + 0.5)
+"""Natural log of every level (0-255), half a level up so that black stays finite."""
 
 
 CHROMA_SIZE = 2 * CHROMA_HALF_RANGE_BINS + 1
@@ -102,6 +112,14 @@ def log_chromaticity_histogram(bgr_pixels: np.ndarray) -> Optional[np.ndarray]:
     histogram = cv2.GaussianBlur(counts.reshape(CHROMA_SIZE, CHROMA_SIZE).astype(np.float32),
                                  (5, 5), 1.0)
     return histogram / float(histogram.sum())
+
+
+def _middle_mean(values: np.ndarray) -> float:
+    """Mean of the middle half of ``values`` (between their quartiles): robust as a median to
+    the outliers, and unlike the median of levels of 8-bit pixels not stuck on a few values."""
+    low, high = np.percentile(values, (25.0, 75.0))
+    middle = values[(values >= low) & (values <= high)]
+    return float(middle.mean())
 
 
 def _peak_offset(below: float, peak: float, above: float) -> float:
@@ -231,19 +249,32 @@ class WhiteBalanceLock:
         return float(correlation[row, column])
 
     def _frame_step(self, image: np.ndarray) -> Optional[np.ndarray]:
-        """The log-chromaticity shift (log R/G, log B/G) from the last frame to ``image`` over
-        the whole image (every second pixel), or None when either has too few usable pixels,
-        they share too little (another scene) or the best fit lies beyond a drift's pace."""
-        current = log_chromaticity_histogram(image[::2, ::2].reshape(-1, 3))
+        """The log-chromaticity step (log R/G, log B/G) from the last frame to ``image``: the
+        mean of the middle half of every second pixel's chromaticity changes, over the pixels
+        usable in both frames that show the same surface in both (see :data:`SAME_SURFACE_LOG`); None when
+        too few pixels are usable, too few show the same surface (another scene) or the step
+        exceeds FRAME_STEP_BINS."""
+        pixels = image[::2, ::2].reshape(-1, 3)
+        blue, green, red = LOG_LEVEL[pixels[:, 0]], LOG_LEVEL[pixels[:, 1]], LOG_LEVEL[
+            pixels[:, 2]]
+        brightest = pixels.max(axis=1)
+        usable = (brightest >= MIN_VALUE) & (brightest < MAX_VALUE) & (pixels.min(axis=1) > 0)
+        current = np.stack((red - green, blue - green, green), axis=1), usable
         last, self.last_frame = self.last_frame, current
-        if current is None or last is None:
+        if last is None or last[0].shape != current[0].shape:
             return None
-        limit = self._limit_bins()
-        found = _best_shift(_correlation(current, last, limit), last, limit, FRAME_STEP_BINS,
-                            np.zeros(2, int), True)
-        if found is None or found[1] < MIN_FRAME_OVERLAP:
+        both = usable & last[1]
+        if np.count_nonzero(both) < MIN_PIXELS:
             return None
-        return found[0]
+        change = current[0][both] - last[0][both]
+        brightness = change[:, 2] - np.median(change[:, 2])
+        same = np.abs(brightness) <= SAME_SURFACE_LOG
+        if np.count_nonzero(same) < max(MIN_PIXELS, MIN_SAME_SURFACE * len(change)):
+            return None
+        step = np.array([_middle_mean(change[same, axis]) for axis in (0, 1)])
+        if np.any(np.abs(step) > FRAME_STEP_BINS * CHROMA_BIN):
+            return None
+        return step.astype(float)
 
     def _measure(self, surfaces: tuple, reach: int, own_peak: bool) -> bool:
         """Move the shift to where the floor's histogram (``surfaces``: its
