@@ -109,7 +109,7 @@ class World:
                            pose.yaw + angular * dt)
 
 
-CAMERA_VIEW = CameraView(CAMERA_X, 0.0, 0.0, math.radians(29.0), 0.12, 2.5)
+CAMERA_VIEW = CameraView(CAMERA_X, 0.0, 0.0, math.radians(29.0), 0.12, 2.5, CAMERA_BOTTOM_M)
 
 
 def run(controller, world, duration_s, rate=20.0, scan_fov=2 * math.pi, stop_when=None,

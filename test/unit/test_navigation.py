@@ -124,6 +124,28 @@ def test_frontier_prefers_near_and_ahead():
     assert ahead[0] == 20 and behind[0] == 9
 
 
+def test_frontier_keeps_its_goal_until_another_costs_clearly_less():
+    """A square of seen floor around the robot: facing +x it takes the goal ahead. Turned to
+    face +y, a goal that way costs 0.47 m less (the turn) and would be taken afresh, but the
+    one chosen is kept; unseen floor 0.9 m ahead, 0.57 m cheaper, replaces it."""
+    seen = np.zeros((40, 40), bool)
+    seen[10:30, 10:30] = True
+    blocked = np.zeros_like(seen)
+    distance = planner.wavefront(~blocked, (20, 20))
+    ahead = planner.frontier_goal(distance, seen, blocked, (20, 20), 0.0, 0.1, 0.3, 6)
+    assert ahead[0] == 30
+    turned = math.pi / 2 + 0.1
+    flipped = planner.frontier_goal(distance, seen, blocked, (20, 20), turned, 0.1, 0.3, 6)
+    kept = planner.frontier_goal(distance, seen, blocked, (20, 20), turned, 0.1, 0.3, 6,
+                                 previous=ahead, switch_m=0.5)
+    assert flipped != ahead and kept == ahead
+    seen[20:24, 30:34] = False
+    seen[20:24, 29] = False
+    nearer = planner.frontier_goal(distance, seen, blocked, (20, 20), turned, 0.1, 0.3, 6,
+                                   previous=ahead, switch_m=0.5)
+    assert nearer != ahead
+
+
 def test_no_frontier_when_everything_reachable_was_seen():
     seen = np.ones((20, 20), bool)
     blocked = np.zeros_like(seen)

@@ -682,11 +682,13 @@ class Controller:
                         else navigator.is_seen(self.goal_xy)))
         if (self.goal_xy is None or covered
                 or elapsed_s(now_s, self.planned_s) >= config.replan_period):
-            previous_goal = self.goal_xy
+            previous_goal, previous_is_candidate = self.goal_xy, self.goal_is_candidate
             self.goal_xy = navigator.unviewed_candidate()
             self.goal_is_candidate = self.goal_xy is not None
             if self.goal_xy is None:
-                self.goal_xy = navigator.frontier(config.explore_turn_cost, FRONTIER_MIN_UNSEEN)
+                self.goal_xy = navigator.frontier(
+                    config.explore_turn_cost, FRONTIER_MIN_UNSEEN,
+                    None if previous_goal is None or previous_is_candidate else previous_goal)
             if (self.goal_xy is None or previous_goal is None
                     or not np.array_equal(self.goal_xy, previous_goal)):
                 self.path_xy = None

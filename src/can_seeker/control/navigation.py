@@ -25,8 +25,9 @@ MIN_LOOKAHEAD_M = 0.2
 CLEAR_AHEAD_M = 0.3
 PATH_SWITCH_M = 0.5
 """A new path replaces a still clear one to the same goal only when it is this much shorter
-(m): two ways about an obstacle of about the same length would otherwise take turns as the map
-changes, and a robot turning to each in turn would go neither."""
+(m), and a new exploration goal replaces one still unseen only when it costs this much less:
+two ways about an obstacle of about the same length, or two goals, would otherwise take turns
+as the map changes, and a robot turning to each in turn would reach neither."""
 
 
 @dataclass(frozen=True)
@@ -355,11 +356,14 @@ class Navigator:
         legs = np.diff(np.vstack(((self.pose.x, self.pose.y), path_xy)), axis=0)
         return float(np.hypot(legs[:, 0], legs[:, 1]).sum())
 
-    def frontier(self, turn_cost_m_per_rad: float, min_unseen_cells: int) -> Optional[np.ndarray]:
+    def frontier(self, turn_cost_m_per_rad: float, min_unseen_cells: int,
+                 previous_xy: Optional[Sequence[float]] = None) -> Optional[np.ndarray]:
         """Odom centre of the best exploration goal (see :func:`planner.frontier_goal`), with
-        each of :attr:`plan_margins_m` in turn."""
+        each of :attr:`plan_margins_m` in turn; the ``previous_xy`` goal is kept unless another
+        costs at least :data:`PATH_SWITCH_M` less."""
         if self.pose is None:
             return None
+        previous = None if previous_xy is None else self.grid.cell_of(*previous_xy)
         for margin_m in self.plan_margins_m:
             plan = self._plan(None, None, 0.0, margin_m)
             if plan is None:
@@ -369,7 +373,9 @@ class Navigator:
             goal = planner.frontier_goal(distance, window.crop(self.grid.seen), blocked, start,
                                          self.pose.yaw, self.grid.resolution_m,
                                          turn_cost_m_per_rad, min_unseen_cells,
-                                         2.0 * GOAL_REACHED_M / self.grid.resolution_m)
+                                         2.0 * GOAL_REACHED_M / self.grid.resolution_m,
+                                         None if previous is None else window.local(previous),
+                                         PATH_SWITCH_M)
             if goal is not None:
                 return self.grid.centre_of(*window.grid(goal))
         return None

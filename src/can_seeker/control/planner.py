@@ -107,13 +107,17 @@ def planning_window(known: np.ndarray, cells: Tuple[Tuple[int, int], ...],
 def frontier_goal(distance: np.ndarray, seen: np.ndarray, blocked: np.ndarray,
                   robot_cell: Tuple[int, int], heading_rad: float, resolution_m: float,
                   turn_cost_m_per_rad: float, min_unseen_cells: int,
-                  min_distance_cells: float = 0.0) -> Optional[Tuple[int, int]]:
+                  min_distance_cells: float = 0.0, previous: Optional[Tuple[int, int]] = None,
+                  switch_m: float = 0.0) -> Optional[Tuple[int, int]]:
     """The reachable, unseen, unblocked cell next to seen floor with the lowest cost: path
     length (m) plus ``turn_cost_m_per_rad`` times the turn toward it from ``heading_rad``.
 
     Only cells with at least ``min_unseen_cells`` unseen free cells in their 5 x 5
     neighbourhood count, so a lone unseen cell between seen ones is no reason to drive, and
     only those more than ``min_distance_cells`` of path away (the robot is already there).
+    The ``previous`` goal, while it is still reachable, unseen and unblocked, is kept unless
+    another costs at least ``switch_m`` less: two goals of about the same cost would otherwise
+    take turns as the coverage grows, and a robot turning to each in turn reaches neither.
     """
     unseen_free = ~seen & ~blocked
     next_to_seen = np.zeros_like(seen)
@@ -129,10 +133,20 @@ def frontier_goal(distance: np.ndarray, seen: np.ndarray, blocked: np.ndarray,
     xs, ys = np.nonzero(candidates)
     if len(xs) == 0:
         return None
-    bearings = np.arctan2(ys - robot_cell[1], xs - robot_cell[0]) - heading_rad
-    turns = np.abs(np.arctan2(np.sin(bearings), np.cos(bearings)))
-    costs = distance[xs, ys] * resolution_m + turn_cost_m_per_rad * turns
-    best = int(np.argmin(costs))
+
+    def costs(xs, ys):
+        bearings = np.arctan2(ys - robot_cell[1], xs - robot_cell[0]) - heading_rad
+        turns = np.abs(np.arctan2(np.sin(bearings), np.cos(bearings)))
+        return distance[xs, ys] * resolution_m + turn_cost_m_per_rad * turns
+
+    goal_costs = costs(xs, ys)
+    best = int(np.argmin(goal_costs))
+    if (previous is not None and 0 <= previous[0] < seen.shape[0]
+            and 0 <= previous[1] < seen.shape[1] and unseen_free[previous]
+            and np.isfinite(distance[previous]) and distance[previous] > min_distance_cells
+            and goal_costs[best] > costs(np.array([previous[0]]), np.array([previous[1]]))[0]
+            - switch_m):
+        return int(previous[0]), int(previous[1])
     return int(xs[best]), int(ys[best])
 
 
