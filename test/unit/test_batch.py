@@ -7,6 +7,7 @@ import os
 
 import pytest
 
+from can_seeker.camera_mount import random_mount
 from can_seeker.evaluation.batch import TrialLedger, compare_runs, write_json_atomically
 from can_seeker.evaluation.trials import Criteria, TrialResult
 
@@ -47,6 +48,23 @@ def test_a_record_resumes_with_only_its_missing_trials(tmp_path):
     assert resumed.missing() == [0, 2, 3]
     assert resumed.criteria == Criteria(stop_distance_m=0.3)
     assert json.dumps(resumed.record()) == json.dumps(first.record())
+
+
+def test_each_trial_records_its_seed_and_the_camera_mount_drawn_from_it(tmp_path):
+    """With the mount drawn per trial, a failing trial's mount is in its record (the
+    simulator draws it from the trial's seed); a record with them resumes."""
+    settings = dict(SETTINGS, randomize_mount=True)
+    ledger = TrialLedger(settings, Criteria(), [result(0), result(2)])
+    trials = ledger.record()['trials']
+    assert [trial['seed'] for trial in trials] == [3, 5]
+    assert (trials[1]['camera_height_m'], trials[1]['camera_pitch_deg']) == (
+        random_mount(5).height_m, random_mount(5).pitch_deg)
+    assert trials[0]['camera_height_m'] != trials[1]['camera_height_m']
+    assert 'camera_height_m' not in TrialLedger(SETTINGS, Criteria(),
+                                                [result(0)]).record()['trials'][0]
+    resumed = TrialLedger.from_record(json.loads(json.dumps(ledger.record())), settings)
+    assert resumed.missing() == [1, 3, 4]
+    assert json.dumps(resumed.record()) == json.dumps(ledger.record())
 
 
 def test_a_resume_may_change_the_number_of_trials_only():

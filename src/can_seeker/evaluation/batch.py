@@ -5,18 +5,22 @@ how two runs of the same trials compare.
 Trial i always uses seed + i, so any subset of the trials can run anywhere (another process, its
 own master, another machine) and the collected result equals one run of them all.
 """
+import dataclasses
 import json
 import math
 import os
 import tempfile
 from typing import Dict, List, Optional, Sequence, Tuple
 
+from can_seeker.camera_mount import random_mount
 from can_seeker.evaluation.trials import Criteria, TrialResult, json_ready, summarise
 
 REPEAT_POSITION_TOLERANCE_M = 0.001
 """A repeated trial must end within this of the first run's position (m)..."""
 REPEAT_YAW_TOLERANCE_DEG = 0.1
 """...and heading (deg), with the same outcome."""
+RESULT_FIELDS = frozenset(field.name for field in dataclasses.fields(TrialResult))
+"""The fields of a trial's record that are its result (the rest tell of its world)."""
 RESUMABLE_CHANGES = ('trials',)
 """Settings a resumed evaluation may change: more (or fewer) trials of the same seeds."""
 
@@ -60,9 +64,23 @@ class TrialLedger:
         return summarise(self.results(), self.criteria or Criteria())
 
     def record(self) -> dict:
-        """The JSON record: settings, summary and every finished trial in index order."""
+        """The JSON record: settings, summary and every finished trial in index order (see
+        :meth:`trial_record`)."""
         return json_ready({'settings': self.settings, 'summary': self.summary(),
-                           'trials': [result.as_dict() for result in self.results()]})
+                           'trials': [self.trial_record(result) for result in self.results()]})
+
+    def trial_record(self, result: TrialResult) -> dict:
+        """A trial's fields with the seed of its world and, where the camera mount is drawn
+        per trial (``randomize_mount``), the mount drawn from it: ``camera_height_m``,
+        ``camera_pitch_deg`` (deg below the horizon)."""
+        record = result.as_dict()
+        seed = self.settings['seed'] + result.index
+        record['seed'] = seed
+        if self.settings.get('randomize_mount'):
+            mount = random_mount(seed)
+            record['camera_height_m'], record['camera_pitch_deg'] = (mount.height_m,
+                                                                     mount.pitch_deg)
+        return record
 
     @classmethod
     def from_record(cls, record: dict, settings: dict) -> 'TrialLedger':
@@ -76,7 +94,9 @@ class TrialLedger:
             raise ValueError('the record is of another evaluation (%s differ)'
                              % ', '.join(changed))
         return cls(settings, Criteria(**record['summary']['criteria']),
-                   [TrialResult.from_dict(fields) for fields in record['trials']])
+                   [TrialResult.from_dict({name: value for name, value in fields.items()
+                                           if name in RESULT_FIELDS})
+                    for fields in record['trials']])
 
 
 def write_json_atomically(path: str, record: dict):
