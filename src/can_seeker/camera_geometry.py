@@ -253,11 +253,11 @@ def project_floor_points(pose: CameraPose, intrinsics: CameraIntrinsics, points_
     return np.stack((u, v), axis=1)
 
 
-def can_image_box(pose: CameraPose, intrinsics: CameraIntrinsics, range_m: float,
-                  bearing: float, diameter_m: float, height_m: float, samples: int = 24):
-    """(width, height) in px of the box around an upright can seen at ``range_m`` (to its near
-    surface) and ``bearing`` (rad) from the camera: its top and bottom rims projected. None
-    when the can is not entirely in front of the camera."""
+def can_rims_px(pose: CameraPose, intrinsics: CameraIntrinsics, range_m: float,
+                bearing: float, diameter_m: float, height_m: float, samples: int = 24):
+    """(bottom rim, top rim): image points (samples x 2, px) of the rims of an upright can seen
+    at ``range_m`` (to its near surface) and ``bearing`` (rad) from the camera. None when the
+    can is not entirely in front of the camera."""
     radius_m = diameter_m / 2.0
     heading = pose.heading_rad + bearing
     centre_x = pose.position[0] + (range_m + radius_m) * math.cos(heading)
@@ -269,5 +269,17 @@ def can_image_box(pose: CameraPose, intrinsics: CameraIntrinsics, range_m: float
     pixels = project_floor_points(pose, intrinsics, points)
     if len(pixels) < len(points):
         return None
+    return pixels[:samples], pixels[samples:]
+
+
+def can_image_box(pose: CameraPose, intrinsics: CameraIntrinsics, range_m: float,
+                  bearing: float, diameter_m: float, height_m: float, samples: int = 24):
+    """(width, height) in px of the box around an upright can seen at ``range_m`` (to its near
+    surface) and ``bearing`` (rad) from the camera: its top and bottom rims projected. None
+    when the can is not entirely in front of the camera."""
+    rims = can_rims_px(pose, intrinsics, range_m, bearing, diameter_m, height_m, samples)
+    if rims is None:
+        return None
+    pixels = np.concatenate(rims)
     extent = pixels.max(axis=0) - pixels.min(axis=0)
     return float(extent[0]), float(extent[1])

@@ -6,7 +6,8 @@ import math
 import pytest
 
 from can_seeker.camera_geometry import can_image_box, intrinsics_from_vertical_fov
-from can_seeker.vision.report import PARAMS, CanModel, can_report, fallback_pose, geometry_score
+from can_seeker.vision.report import (PARAMS, CanModel, can_report, can_side_measures,
+                                     fallback_pose, geometry_score)
 from can_seeker.vision.detector import DETECTOR_PARAMS, Blob
 
 INTRINSICS = intrinsics_from_vertical_fov(320, 240, 45.0)
@@ -129,3 +130,16 @@ def test_equally_can_like_blobs_report_the_larger():
     large = dataclasses.replace(small, area=3 * small.area, centroid_x=60.0)
     report = can_report([large, small], 320, 240, None, None, CAN)
     assert report.chosen == 0 and report.confidence == pytest.approx(0.8)
+
+
+def test_the_red_side_of_a_can_seen_from_above_has_the_lid_cut_from_its_top():
+    """Seen level at mid-height the red side is the whole silhouette: convex, filling its box
+    but for the rims' curves. Seen from above and close, the lid's ellipse cuts into its top:
+    neither convex nor filling its box; farther away the lid flattens and both come back."""
+    level = can_side_measures(fallback_pose(0.061, 0.0), INTRINSICS, 0.5, 0.0, CAN)
+    assert level[0] > 0.97 and level[1] > 0.85
+    steep = fallback_pose(0.33, 34.6)
+    near = can_side_measures(steep, INTRINSICS, 0.3, 0.0, CAN)
+    far = can_side_measures(steep, INTRINSICS, 1.0, 0.0, CAN)
+    assert near[0] < 0.9 and near[1] < 0.8
+    assert far[0] > near[0] + 0.05 and far[1] > near[1] + 0.05

@@ -288,7 +288,7 @@ def shape_score(solidity: float, fill: float, aspect: float, tilt_deg: float,
     multiplies the score by CUT_FACTOR: a partly seen silhouette is a weaker sign of a can.
     The tilt of a blob cut only at the top is not judged (see below).
     """
-    score = _ramp(solidity, 0.8, 0.93) * _ramp(fill, 0.6, 0.8)
+    score = convexity_score(solidity, fill)
     cut_across = 'left' in cut or 'right' in cut
     cut_along = 'top' in cut or 'bottom' in cut
     if not (cut_across or cut_along):
@@ -302,6 +302,11 @@ def shape_score(solidity: float, fill: float, aspect: float, tilt_deg: float,
         # floor range instead (report.geometry_score).
         return score
     return score * _ramp(-tilt_deg, -35.0, -15.0)
+
+
+def convexity_score(solidity: float, fill: float) -> float:
+    """The part of :func:`shape_score` that judges a blob's solidity and fill (0-1)."""
+    return _ramp(solidity, 0.8, 0.93) * _ramp(fill, 0.6, 0.8)
 
 
 def _cut_sides(x, y, width, height, image_width, image_height):
@@ -328,6 +333,16 @@ def _tilt_deg(moments) -> float:
     return 90.0 - abs(axis_from_x_deg)
 
 
+def solidity_and_fill(contour: np.ndarray, area_px: float) -> Tuple[float, float]:
+    """(solidity, fill) of a region of ``area_px`` pixels inside ``contour``: its area over
+    its convex hull's, and over its rotated bounding box's (a pixel wider each way, as the
+    pixels' own extent), each at most 1."""
+    hull_area = cv2.contourArea(cv2.convexHull(contour))
+    solidity = min(1.0, area_px / hull_area) if hull_area > 0 else 1.0
+    (_, _), (side_a, side_b), _ = cv2.minAreaRect(contour)
+    return solidity, min(1.0, area_px / max(1.0, (side_a + 1.0) * (side_b + 1.0)))
+
+
 def red_blobs(mask: np.ndarray, min_area_px: float,
               max_candidates: int = MAX_CANDIDATES) -> List[Blob]:
     """The 8-connected regions of a binary mask with at least ``min_area_px`` pixels, largest
@@ -351,10 +366,7 @@ def red_blobs(mask: np.ndarray, min_area_px: float,
         centroid = centroid_from_moments(moments)
         if centroid is None or moments['m00'] < min_area_px:
             continue
-        hull_area = cv2.contourArea(cv2.convexHull(contour))
-        solidity = min(1.0, moments['m00'] / hull_area) if hull_area > 0 else 1.0
-        (_, _), (side_a, side_b), _ = cv2.minAreaRect(contour)
-        fill = min(1.0, moments['m00'] / max(1.0, (side_a + 1.0) * (side_b + 1.0)))
+        solidity, fill = solidity_and_fill(contour, moments['m00'])
         aspect = height / float(width)
         tilt = _tilt_deg(moments)
         cut = _cut_sides(x, y, width, height, image_width, image_height)
