@@ -22,8 +22,9 @@ its own within ANCHOR_BINS of it. The step is measured pixel by pixel, not on hi
 robot turning over tiles of two near colours changes their mix in view, which moves a
 histogram's peak as a drift would, but a pixel that still shows the same surface (its
 brightness changed only as the whole frame's did) changes its chromaticity only by the drift,
-and the mean of the middle half of those pixels' changes is the drift's step. A floor that would pull the shift
-farther than ANCHOR_BINS (it lays a new tile onto a known one) corrects nothing. A new tile can
+and the mean of the middle half of those pixels' changes is the drift's step. A floor that
+would pull the shift farther than ANCHOR_BINS (it lays a new tile onto a known one) corrects
+nothing. A new tile can
 still lie within that reach of a known one; its peak then pulls the shift onto it, and the
 known floor elsewhere in view turns to obstacle under the new correction. Given the
 classifier's verdict (the share of the frame that is floor under a shift), the lock takes the
@@ -251,9 +252,9 @@ class WhiteBalanceLock:
     def _frame_step(self, image: np.ndarray) -> Optional[np.ndarray]:
         """The log-chromaticity step (log R/G, log B/G) from the last frame to ``image``: the
         mean of the middle half of every second pixel's chromaticity changes, over the pixels
-        usable in both frames that show the same surface in both (see :data:`SAME_SURFACE_LOG`); None when
-        too few pixels are usable, too few show the same surface (another scene) or the step
-        exceeds FRAME_STEP_BINS."""
+        usable in both frames that show the same surface in both (see SAME_SURFACE_LOG); None
+        when too few pixels are usable, too few show the same surface (another scene) or the
+        step exceeds FRAME_STEP_BINS."""
         pixels = image[::2, ::2].reshape(-1, 3)
         blue, green, red = LOG_LEVEL[pixels[:, 0]], LOG_LEVEL[pixels[:, 1]], LOG_LEVEL[
             pixels[:, 2]]
