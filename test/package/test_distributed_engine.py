@@ -74,6 +74,6 @@ def test_trials_on_two_workers_one_killed_match_one_worker_and_lose_nothing(tmp_
     with open(json_path) as stored:
         record = json.load(stored)
     assert [trial['index'] for trial in record['trials']] == [0, 1, 2, 3]
-    two_workers = [TrialResult(**fields) for fields in record['trials']]
+    two_workers = [TrialResult.from_dict(fields) for fields in record['trials']]
     comparison = compare_runs(one_worker.results(), two_workers)
     assert comparison['repeatable'], comparison

@@ -5,7 +5,6 @@ how two runs of the same trials compare.
 Trial i always uses seed + i, so any subset of the trials can run anywhere (another process, its
 own master, another machine) and the collected result equals one run of them all.
 """
-import dataclasses
 import json
 import math
 import os
@@ -19,8 +18,6 @@ REPEAT_POSITION_TOLERANCE_M = 0.001
 """A repeated trial must end within this of the first run's position (m)..."""
 REPEAT_YAW_TOLERANCE_DEG = 0.1
 """...and heading (deg), with the same outcome."""
-RESULT_FIELDS = frozenset(field.name for field in dataclasses.fields(TrialResult))
-"""The fields of a trial's record that are its result (the rest tell of its world)."""
 RESUMABLE_CHANGES = ('trials',)
 """Settings a resumed evaluation may change: more (or fewer) trials of the same seeds."""
 
@@ -94,9 +91,7 @@ class TrialLedger:
             raise ValueError('the record is of another evaluation (%s differ)'
                              % ', '.join(changed))
         return cls(settings, Criteria(**record['summary']['criteria']),
-                   [TrialResult.from_dict({name: value for name, value in fields.items()
-                                           if name in RESULT_FIELDS})
-                    for fields in record['trials']])
+                   [TrialResult.from_dict(fields) for fields in record['trials']])
 
 
 def write_json_atomically(path: str, record: dict):

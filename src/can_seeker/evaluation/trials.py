@@ -144,11 +144,13 @@ class TrialResult:
 
     @classmethod
     def from_dict(cls, fields: dict) -> 'TrialResult':
-        """The result :meth:`as_dict` gave (null in a float field is NaN again)."""
+        """The result :meth:`as_dict` gave (null in a float field is NaN again), from a trial's
+        record: what else it tells of the trial's world (its seed, camera mount) is left out."""
         return cls(**{name: math.nan if value is None and name in _FLOAT_FIELDS else value
-                      for name, value in fields.items()})
+                      for name, value in fields.items() if name in _FIELDS})
 
 
+_FIELDS = frozenset(field.name for field in fields(TrialResult))
 _FLOAT_FIELDS = frozenset(field.name for field in fields(TrialResult) if field.type is float)
 
 
