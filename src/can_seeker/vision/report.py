@@ -131,14 +131,13 @@ def can_side_measures(pose, intrinsics, range_m: float, bearing: float,
     rims = can_rims_px(pose, intrinsics, range_m, bearing, can.diameter_m, can.height_m)
     if rims is None:
         return None
-    bottom, top = rims
-    origin = np.floor(np.concatenate(rims).min(axis=0)) - 1.0
-    size = np.ceil(np.concatenate(rims).max(axis=0) - origin).astype(int) + 2
+    points = np.concatenate(rims)
+    origin = np.floor(points.min(axis=0)) - 1.0
+    size = np.ceil(points.max(axis=0) - origin).astype(int) + 2
     side = np.zeros((size[1], size[0]), np.uint8)
-    outline = cv2.convexHull(np.rint(np.concatenate(rims) - origin).astype(np.int32))
-    cv2.fillPoly(side, [outline], 1)
+    cv2.fillPoly(side, [cv2.convexHull(np.rint(points - origin).astype(np.int32))], 1)
     if pose.position[2] > can.height_m:
-        cv2.fillPoly(side, [np.rint(top - origin).astype(np.int32)], 0)
+        cv2.fillPoly(side, [np.rint(rims[1] - origin).astype(np.int32)], 0)
     contours, _ = cv2.findContours(side, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
     if not contours:
         return None
