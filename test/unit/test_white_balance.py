@@ -279,3 +279,24 @@ def test_turning_over_large_tiles_the_steps_follow_a_drift():
     it, and the shift follows (steps read from the whole image's histogram ended 3 bins off)."""
     lock, _, drift = turning(range(150, 10, -7), (0.006, -0.004))
     assert lock.shift_log == pytest.approx(drift, abs=0.5 * CHROMA_BIN)
+
+
+def test_a_floor_correction_the_floor_models_verdict_cannot_tell_from_none_is_not_taken():
+    """Nothing drifts; the robot turns over two large tiles of near colours and the reference
+    area in front of it shows mostly the dark one, then mostly the light one. Their histograms
+    overlap, so the mix pulls the floor's peak off the model's by up to 1.4 bins, and the lock
+    learns the pixels it corrects (the pull then builds on itself). The floor model's verdict
+    is the same with or without each correction (its bins are coarser than the pull): a
+    correction that shows no more of the frame as floor is not taken, and the shift stays under
+    a third of a bin."""
+    lock = WhiteBalanceLock(0.3)
+    frame = turning_over_tiles(80)
+    lock.track(frame[60:].reshape(-1, 3), frame)
+    largest = 0.0
+    sweep = list(range(150, 10, -7)) + list(range(10, 150, 7))
+    for step, edge in enumerate(sweep * 3, start=1):
+        frame = turning_over_tiles(edge, seed=step)
+        lock.track(frame[60:].reshape(-1, 3), frame, lambda shift_log: 1.0)
+        lock.learn(lock.correct(frame)[60:].reshape(-1, 3), 0.005)
+        largest = max(largest, float(np.abs(lock.shift_log).max()) / CHROMA_BIN)
+    assert largest < 0.35

@@ -39,7 +39,7 @@ colour of the image by the same shift. The adaptive model therefore also keeps t
 area's log-chromaticity histogram; each frame it follows the shift between the last frame and
 this one over the whole image (a drift moves every colour, driving onto another tile only those
 in front of the robot), holds it to the shift that lays the reference area back on the floor's
-colours nearby where that keeps at least as much of the frame floor, and undoes it on the
+colours nearby where that shows more of the frame as floor, and undoes it on the
 whole image before classifying (von Kries' chromatic adaptation, anchored on the floor;
 :mod:`can_seeker.vision.white_balance`). The shift follows a
 drift's pace and stays within ``~max_colour_shift``; a colour that differs from the floor's by

@@ -28,9 +28,12 @@ nothing. A new tile can
 still lie within that reach of a known one; its peak then pulls the shift onto it, and the
 known floor elsewhere in view turns to obstacle under the new correction. Given the
 classifier's verdict (the share of the frame that is floor under a shift), the lock takes the
-floor's correction only where it keeps at least as much of the frame floor as the prediction
-does: a drift's correction lays the floor back on its model and keeps or grows that share, a
-tile taken for a drift shrinks it.
+floor's correction only where it shows more of the frame as floor than the prediction does, by
+MIN_FLOOR_GAIN: a drift the steps missed turns floor to obstacle until it is undone, so its
+correction grows that share; a tile taken for a drift shrinks it; and near tiles whose mix in
+the reference area pulls the peak by a fraction of a bin change nothing the floor model can
+tell, so that pull (which the model, learning the corrected pixels, would build on frame after
+frame) moves nothing.
 """
 from typing import Callable, Optional
 
@@ -54,6 +57,9 @@ pulls its own drift back at about this pace)."""
 ANCHOR_BINS = 2
 """With the whole image's step known, the floor corrects the predicted shift only by a
 correlation peak within this many bins of it."""
+MIN_FLOOR_GAIN = 0.01
+"""With the whole image's step known, the floor's correction must show at least this much more
+of the frame (0-1) as floor than the predicted shift does to be taken."""
 SAME_SURFACE_LOG = 0.1
 """A pixel whose brightness (log green) changed from the last frame by more than this, beyond
 the whole frame's median change (exposure), shows another surface now: it says nothing about
@@ -209,8 +215,8 @@ class WhiteBalanceLock:
         ``image`` (the whole frame, HxWx3 uint8 BGR, not corrected) the shift moves by the step
         between frames where the floor fits it at least as well, and the floor corrects it only
         by a peak of its own near it; with ``floor_share`` (a shift (log R/G, log B/G) -> the
-        share 0-1 of the frame that is floor with it undone) only where that share does not
-        shrink."""
+        share 0-1 of the frame that is floor with it undone) only where that share grows by
+        MIN_FLOOR_GAIN."""
         if self.max_shift_log <= 0.0:
             return
         step = self._frame_step(image) if image is not None else None
@@ -236,7 +242,7 @@ class WhiteBalanceLock:
         predicted = self.shift_log.copy()
         if (self._measure(surfaces, ANCHOR_BINS, True) and floor_share is not None
                 and np.any(self.shift_log != predicted)
-                and floor_share(self.shift_log) < floor_share(predicted)):
+                and floor_share(self.shift_log) < floor_share(predicted) + MIN_FLOOR_GAIN):
             self.shift_log = predicted
 
     def _bounded(self, shift_log: np.ndarray) -> np.ndarray:
