@@ -22,10 +22,11 @@ shading of the floor (lens vignetting, light falling off, a soft shadow), not an
 
 Where two floor colours meet (a tile edge), the lens and the renderer's filtering blend them
 over a few pixels, and the blend is a colour neither tile has: a thin line of "obstacle" along
-every tile edge, which a scan reports as a wall on the floor. A pixel whose colour lies on the
-line between the floor pixels a few pixels to either side of it (across the edge) is such a
-blend (:func:`floor_blends`) and is no obstacle; it does not teach the model either. A thin
-object is kept: its colour is not a mix of the floor on its two sides.
+every tile edge and a cross at every corner, which a scan reports as a wall on the floor. A
+pixel whose colour lies on the line between two floor colours found a few pixels from it (on
+either side of an edge, or on two sides of a corner) is such a blend (:func:`floor_blends`)
+and is no obstacle; it does not teach the model either. A thin object is kept: its colour is
+not a mix of the floor around it.
 
 A lens darkens the image corners: the reference area reaches into them, so the model would
 learn every brightness down to the corners' and take a darker wall of the floor's hue for
@@ -92,10 +93,16 @@ JOINT_VALUE_TOLERANCE = 2
 around; grey has no neighbours) and intensity bins either side of a pixel's (colour,
 intensity) bin: +-16 grey levels tolerate the exposure's walk and the light's fall-off."""
 JOINT_BINS = (GREY_BIN + 1) * VALUE_BINS
-BLEND_REACH_PX = 5
-"""A blend of two floor colours is looked for across at most this many pixels either side of
-a pixel, to the nearest solid floor (floor whose 3x3 neighbourhood is floor): a tile edge
-blurred over up to 7 px."""
+BLEND_REACH_FRACTION = 0.025
+"""A blend of two floor colours is looked for across at most this fraction of the image width
+(8 px of 320) either side of a pixel, to the nearest solid floor (floor whose 3x3
+neighbourhood is floor): a tile edge blurred over up to 15 px of 320 (a camera low and steep
+over the floor magnifies a texture's edge, and defocus widens it in proportion to the image)."""
+BLEND_DIRECTIONS = ((0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (-1, -1), (1, -1), (-1, 1))
+"""(row, column) steps along which a pixel's nearest floor is looked for. A blend lies between
+the floor colours found in two of them: on opposite sides across an edge, upright or slanted,
+or in two neighbouring directions at the corner where four tiles meet (there every straight
+line through the corner joins two tiles of the same colour)."""
 BLEND_TOLERANCE = 12.0
 """Largest distance (BGR grey levels, after a 3x3 mean) of a blend's colour from the line
 between the floor colours on its two sides: sensor noise and JPEG blocks."""
@@ -463,71 +470,82 @@ class FloorClassifier:
         return np.where(keep[labels], 255, 0).astype(np.uint8)
 
 
-def _floor_on_two_sides(floor: np.ndarray, reach_px: int) -> np.ndarray:
-    """Boolean image: pixels with a floor pixel within ``reach_px`` both to the left and to the
-    right, or both above and below (the only pixels that can be blends; the inside of a
-    region wider than that never is)."""
+def _floor_along(floor_u8: np.ndarray, step, reach_px: int) -> np.ndarray:
+    """uint8 image: 1 where a floor pixel lies 1 to ``reach_px`` steps of ``step`` (row,
+    column) away."""
+    kernel = np.zeros((2 * reach_px + 1, 2 * reach_px + 1), np.uint8)
+    for distance in range(1, reach_px + 1):
+        kernel[reach_px + distance * step[0], reach_px + distance * step[1]] = 1
+    return cv2.dilate(floor_u8, kernel, anchor=(reach_px, reach_px),
+                      borderType=cv2.BORDER_CONSTANT, borderValue=0)
+
+
+def _floor_in_two_directions(floor: np.ndarray, reach_px: int) -> np.ndarray:
+    """Boolean image: pixels with a floor pixel within ``reach_px`` steps along at least two of
+    BLEND_DIRECTIONS (the only pixels that can be blends; the inside of a region wider than
+    that never is)."""
     floor_u8 = floor.astype(np.uint8)
-    near = []
-    for before in (True, False):
-        kernel = np.ones((1, reach_px + 1), np.uint8)
-        kernel[0, reach_px if before else 0] = 0
-        anchor = (reach_px, 0) if before else (0, 0)
-        near.append((cv2.dilate(floor_u8, kernel, anchor=anchor,
-                                borderType=cv2.BORDER_CONSTANT, borderValue=0),
-                     cv2.dilate(floor_u8, kernel.T, anchor=anchor[::-1],
-                                borderType=cv2.BORDER_CONSTANT, borderValue=0)))
-    (left, above), (right, below) = near
-    return ((left & right) | (above & below)).astype(bool)
+    directions = np.zeros(floor.shape, np.uint8)
+    for step in BLEND_DIRECTIONS:
+        directions += _floor_along(floor_u8, step, reach_px)
+    return directions >= 2
 
 
-def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: int = BLEND_REACH_PX,
+def blend_reach_px(width_px: int) -> int:
+    """How far (px) a blend's floor is looked for in an image ``width_px`` wide."""
+    return max(1, int(round(BLEND_REACH_FRACTION * width_px)))
+
+
+def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = None,
                  tolerance: float = BLEND_TOLERANCE,
                  min_contrast: float = BLEND_MIN_CONTRAST) -> np.ndarray:
-    """Boolean image: the non-floor pixels whose colour is a mix of the floor on their two
-    sides. For each pixel the nearest solid floor pixel (its 3x3 neighbourhood all ``floor``:
-    speckles of floor inside an object are not its sides) within ``reach_px`` is found to the
-    left and to the right (else above and below); when both exist, their colours (3x3 means)
-    differ by at least ``min_contrast`` and the pixel's colour is within ``tolerance`` of the
-    segment between theirs, and BLEND_MARGIN inside it, it is a blend of them."""
+    """Boolean image: the non-floor pixels whose colour is a mix of the floor around them. For
+    each pixel the nearest solid floor pixel (its 3x3 neighbourhood all ``floor``: speckles of
+    floor inside an object are not its sides) within ``reach_px`` steps (:func:`blend_reach_px`
+    of the image's width by default) is found along each of BLEND_DIRECTIONS; when the colours
+    (3x3 means) of two of them differ by at least ``min_contrast`` and the pixel's colour is
+    within ``tolerance`` of the segment between them, and BLEND_MARGIN inside it, it is a blend
+    of them."""
+    if reach_px is None:
+        reach_px = blend_reach_px(floor.shape[1])
     blends = np.zeros(floor.shape, bool)
     floor = cv2.erode(floor.astype(np.uint8), np.ones((3, 3), np.uint8),
                       borderType=cv2.BORDER_CONSTANT, borderValue=1).astype(bool)
-    rows, columns = np.nonzero(~floor & _floor_on_two_sides(floor, reach_px))
+    rows, columns = np.nonzero(~floor & _floor_in_two_directions(floor, reach_px))
     if rows.size == 0:
         return blends
     smooth = cv2.blur(bgr, (3, 3)).astype(np.float32)
     pixel = smooth[rows, columns]
     height, width = floor.shape
+    ends = []
+    for step_row, step_column in BLEND_DIRECTIONS:
+        found = np.zeros(rows.size, bool)
+        colour = np.zeros((rows.size, 3), np.float32)
+        for step in range(1, reach_px + 1):
+            row = rows + step * step_row
+            column = columns + step * step_column
+            inside = (row >= 0) & (row < height) & (column >= 0) & (column < width)
+            new = np.zeros(rows.size, bool)
+            new[inside] = floor[row[inside], column[inside]]
+            new &= ~found
+            colour[new] = smooth[row[new], column[new]]
+            found |= new
+        ends.append((found, colour))
     undecided = np.ones(rows.size, bool)
-    for step_row, step_column in ((0, 1), (1, 0)):
-        ends = []
-        for direction in (-1, 1):
-            found = np.zeros(rows.size, bool)
-            colour = np.zeros((rows.size, 3), np.float32)
-            for step in range(1, reach_px + 1):
-                row = rows + direction * step * step_row
-                column = columns + direction * step * step_column
-                inside = (row >= 0) & (row < height) & (column >= 0) & (column < width)
-                new = np.zeros(rows.size, bool)
-                new[inside] = floor[row[inside], column[inside]]
-                new &= ~found
-                colour[new] = smooth[row[new], column[new]]
-                found |= new
-            ends.append((found, colour))
-        (found_start, start), (found_end, end) = ends
-        both = undecided & found_start & found_end
-        span = end[both] - start[both]
-        offset = pixel[both] - start[both]
-        length_sq = np.einsum('ij,ij->i', span, span)
-        along = np.einsum('ij,ij->i', offset, span) / np.maximum(length_sq, 1e-6)
-        off_line = offset - along[:, None] * span
-        blend = ((np.einsum('ij,ij->i', off_line, off_line) <= tolerance * tolerance)
-                 & (length_sq >= min_contrast * min_contrast)
-                 & (along >= BLEND_MARGIN) & (along <= 1.0 - BLEND_MARGIN))
-        decided = np.nonzero(both)[0][blend]
-        blends[rows[decided], columns[decided]] = True
-        undecided[decided] = False
+    for first, (found_start, start) in enumerate(ends):
+        for found_end, end in ends[first + 1:]:
+            both = undecided & found_start & found_end
+            span = end[both] - start[both]
+            offset = pixel[both] - start[both]
+            length_sq = np.einsum('ij,ij->i', span, span)
+            along = np.einsum('ij,ij->i', offset, span) / np.maximum(length_sq, 1e-6)
+            off_line = offset - along[:, None] * span
+            blend = ((np.einsum('ij,ij->i', off_line, off_line) <= tolerance * tolerance)
+                     & (length_sq >= min_contrast * min_contrast)
+                     & (along >= BLEND_MARGIN) & (along <= 1.0 - BLEND_MARGIN))
+            decided = np.nonzero(both)[0][blend]
+            blends[rows[decided], columns[decided]] = True
+            undecided[decided] = False
     return blends
 
 
