@@ -8,11 +8,11 @@ import pytest
 from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_vertical_fov
 from can_seeker.camera_mount import CameraMount
 from can_seeker.control import avoidance, planner
-from can_seeker.control.controller import PARAMS, Controller, State
+from can_seeker.control.controller import PARAMS, Controller, Sighting, State
 from can_seeker.control.grid_map import GridMap
 from can_seeker.control.navigation import Navigator, Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
-from kinematic_world import ROBOT_RADIUS, World, run
+from kinematic_world import CAMERA_VIEW, ROBOT_RADIUS, World, run
 
 DEFAULTS = {spec.name: spec.default for spec in PARAMS}
 
@@ -745,3 +745,32 @@ def test_straight_free_travel_is_the_free_travel_of_each_heading():
         assert free_m == pytest.approx(avoidance.free_travel_m(facing, 0.3, 0.0, clearance, 1.0))
     assert avoidance.straight_free_travel_m(np.zeros((0, 2)), headings, 0.2, 1.0).tolist() \
         == [1.0] * len(headings)
+
+
+def test_within_the_stop_tolerance_the_robot_faces_the_can_instead_of_a_stop_point_aside():
+    """The gap is 7 mm longer than stop_distance (within ~distance_tolerance, beyond half of
+    it) and the can is 8 deg to the right, while an obstacle ahead-right holds even a 3 cm drive
+    back: the robot turns to face the can and stops, instead of turning 40 deg away to a stop
+    point beside the can and back each time the gap's estimate crosses half the tolerance."""
+    controller = make_controller()
+    gap_m = DEFAULTS['stop_distance'] + 0.007
+    bearing = math.radians(-8.0)
+    pose = Pose2D(0.0, 0.0, 0.0)
+    blocked = fan(-180.0, 180.0, 1.5)
+    blocked = np.vstack((blocked, [[0.17, -0.13]]))
+    hits = np.zeros(len(blocked), bool)
+    hits[-1] = True
+    controller.set_camera_view(CAMERA_VIEW)
+    for step in range(40):
+        now = step * 0.05
+        controller.observe_pose(pose, now)
+        controller.observe_scan(controller.scan_sources[0], blocked, hits, (0.0, 0.0), now)
+        controller.observe(Sighting(gap_m, bearing - pose.yaw), now)
+        linear, angular = controller.command(now)
+        assert 'beside' not in controller.why, (step, controller.why)
+        assert linear == 0.0 and angular <= 0.0, (step, linear, angular)
+        pose = Pose2D(0.0, 0.0, pose.yaw + angular * 0.05)
+        if controller.state is State.STOPPED:
+            break
+    assert controller.state is State.STOPPED
+    assert abs(pose.yaw - bearing) <= math.radians(DEFAULTS['bearing_tolerance_deg'])

@@ -714,7 +714,10 @@ class Controller:
         """APPROACH: the direct law, or a path around obstacles while the straight line to the
         can crosses obstacles grown by the robot's radius and safety margin (never in the last
         ``DIRECT_GAP_M``, where the direct law stops in front of the can, or beside the
-        straight line when an obstacle holds that back: :meth:`_stop_aside_bearing`)."""
+        straight line when an obstacle holds that back: :meth:`_stop_aside_bearing`). Within
+        ``distance_tolerance`` of the stop distance it only faces the can: a stop point aside,
+        sought whenever the gap's estimate crossed half the tolerance, turned it away and back
+        again without end."""
         if (self.can_xy is not None and self.can_navigate(now_s)
                 and self.sighting.gap_m > DIRECT_GAP_M
                 and (self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
@@ -727,7 +730,7 @@ class Controller:
         aside = None
         if (self.can_xy is not None and self.can_navigate(now_s)
                 and self.sighting.gap_m <= DIRECT_GAP_M
-                and self._errors()[0] > self.config.distance_tolerance / 2.0):
+                and self._errors()[0] > self.config.distance_tolerance):
             aside = self._stop_aside_bearing()
         command = self._approach_law(aside)
         if command[0] == 0.0:
