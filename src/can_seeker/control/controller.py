@@ -156,7 +156,7 @@ PARAMS = (
           'beyond robot_radius (m)', 0.0, 1.0, safer='higher'),
     Param('explore_linear', 0.3, 'cruise speed while exploring, on paths and wandering (m/s)',
           0.01, 2.0, safer='lower'),
-    Param('explore_turn_cost', 1.0, 'exploration prefers goals ahead: metres of path one '
+    Param('explore_turn_cost', 0.3, 'exploration prefers goals ahead: metres of path one '
           'radian of turning is worth (m/rad)', 0.0, 10.0),
     Param('replan_period', 1.0, 'paths and exploration goals are planned again this often (s)',
           0.1, 10.0),
