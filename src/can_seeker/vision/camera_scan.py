@@ -10,10 +10,11 @@ Conventions (REP-117): ranges are horizontal distances (m) from the scan frame's
 the obstacle's base; +inf where the camera sees floor up to the scan's range_max (nothing in
 view); angles span the camera's view as seen from that origin, increasing to the left
 (REP-103). Every ray is in view from range_min (the nearest floor, in the image's bottom row)
-to range_max (the floor it sees straight ahead, capped by ``max_range``); see
-:func:`scan_geometry`. An obstacle already at the image's bottom edge is reported at the bottom
-row's floor distance: it is at most that far. The target can is no obstacle; where it hides the
-floor right behind it and nothing nearer is seen, the range is NaN (not measured).
+to range_max (capped by ``max_range``): the scan spans the directions the camera sees from its
+bottom row on, out to the distance it sees in all of them (see :func:`scan_geometry`). An
+obstacle already at the image's bottom edge is reported at the bottom row's floor distance: it
+is at most that far. The target can is no obstacle; where it
+hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
 """
 import math
 from dataclasses import dataclass
@@ -52,7 +53,8 @@ class ScanGeometry:
     pixel's lower edge (NaN where the ray misses the floor, is beyond ``range_max`` or lies on
     no scan ray); ``in_range`` (H x W) marks the pixels whose floor is within ``range_max``
     (on a scan ray or not); ``edge_angle_rad`` (H x W+1) the angles at the pixels' left/right
-    edges. Scan bins are ``angle_min + i * angle_increment`` (rad), ``bins`` of them.
+    edges. Scan bins are
+    ``angle_min + i * angle_increment`` (rad), ``bins`` of them.
     """
 
     range_m: np.ndarray
@@ -183,8 +185,8 @@ def _ray_in_view(pose: CameraPose, intrinsics: CameraIntrinsics, angle_rad: floa
     in_front = ((points - np.asarray(pose.position, float)) @ pose.rotation)[:, 2] > 1e-6
     seen = np.zeros(len(points), bool)
     u, v = project_floor_points(pose, intrinsics, points).T
-    edge = 0.5 + IN_VIEW_SLACK_PX
-    seen[in_front] = (u >= -edge) & (u <= intrinsics.width - 1.0 + edge) & (v >= -edge)
+    seen[in_front] = ((u >= -0.5 - IN_VIEW_SLACK_PX) & (u <= intrinsics.width - 0.5 + IN_VIEW_SLACK_PX)
+                      & (v >= -0.5 - IN_VIEW_SLACK_PX))
     return seen
 
 
