@@ -9,11 +9,9 @@ bin keeping its nearest point, as depthimage_to_laserscan does for depth images.
 Conventions (REP-117): ranges are horizontal distances (m) from the scan frame's origin to
 the obstacle's base; +inf where the camera sees floor up to the scan's range_max (nothing in
 view); angles span the camera's view as seen from that origin, increasing to the left
-(REP-103). Every ray is in view from range_min (the nearest floor, in the image's bottom row)
-to range_max (capped by ``max_range``): the scan spans the directions the camera sees from its
-bottom row on, out to the distance it sees in all of them (see :func:`scan_geometry`). An
-obstacle already at the image's bottom edge is reported at the bottom row's floor distance: it
-is at most that far. The target can is no obstacle; where it
+(REP-103). range_max is the farthest floor distance in view (capped by ``max_range``);
+range_min the nearest. An obstacle already at the image's bottom edge is reported at the
+bottom row's floor distance: it is at most that far. The target can is no obstacle; where it
 hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
 """
 import math
@@ -23,7 +21,7 @@ from typing import Optional
 import cv2
 import numpy as np
 
-from can_seeker.camera_geometry import CameraIntrinsics, CameraPose, project_floor_points
+from can_seeker.camera_geometry import CameraIntrinsics, CameraPose
 from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param
 from can_seeker.vision.detector import Blob, RedCanDetector
@@ -50,10 +48,8 @@ class ScanGeometry:
     """Per-pixel floor geometry of one camera pose and image size, in the scan frame.
 
     ``range_m``/``angle_rad`` (H x W) are the range and angle of the floor point under each
-    pixel's lower edge (NaN where the ray misses the floor, is beyond ``range_max`` or lies on
-    no scan ray); ``in_range`` (H x W) marks the pixels whose floor is within ``range_max``
-    (on a scan ray or not); ``edge_angle_rad`` (H x W+1) the angles at the pixels' left/right
-    edges. Scan bins are
+    pixel's lower edge (NaN where the ray misses the floor or is beyond ``range_max``);
+    ``edge_angle_rad`` (H x W+1) the angles at the pixels' left/right edges. Scan bins are
     ``angle_min + i * angle_increment`` (rad), ``bins`` of them.
     """
 
@@ -85,16 +81,7 @@ def _floor_polar(pose: CameraPose, intrinsics: CameraIntrinsics, u, v):
 
 def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
                   max_range_m: float) -> Optional[ScanGeometry]:
-    """The floor geometry of the image, or None when the camera sees no floor within range.
-
-    A scan's ray says the floor is free from range_min to its range (range_max when it has no
-    return), so the scan holds only the rays the camera sees all along: range_max is how far
-    it sees the floor straight ahead (the bottom row's middle, at most ``max_range_m``), and
-    the angles are those whose ray the image holds from its bottom row out to range_max. Seen
-    from a scan frame origin away from the camera (base_link, behind it), a ray at a wider
-    angle runs through floor out of view (entering the image only far out through its side, or
-    leaving it early): an obstacle standing there is left out of the scan.
-    """
+    """The floor geometry of the image, or None when the camera sees no floor within range."""
     if pose is None or intrinsics is None or pose.height_m <= 0.0:
         return None
     width, height = intrinsics.width, intrinsics.height
@@ -104,90 +91,25 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
     range_m, angle = _floor_polar(pose, intrinsics, u, v)
     edge_u, edge_v = np.meshgrid(np.arange(width + 1, dtype=np.float64) - 0.5, rows)
     edge_range, edge_angle = _floor_polar(pose, intrinsics, edge_u, edge_v)
-    in_view = np.isfinite(range_m) & (range_m <= max_range_m)
-    if not in_view[-1].any():
+    in_range = np.isfinite(range_m) & (range_m <= max_range_m)
+    edge_in_range = np.isfinite(edge_range) & (edge_range <= max_range_m)
+    if not in_range.any():
         return None
+    edge_angles = edge_angle[edge_in_range]
+    angle_min, angle_max = float(edge_angles.min()), float(edge_angles.max())
     # One bin per column at the optical centre: the columns' mean angular width there.
     centre_row = min(height - 1, max(0, int(round(intrinsics.cy))))
     centre_edges = edge_angle[centre_row]
-    view_angles = edge_angle[np.isfinite(edge_range) & (edge_range <= max_range_m)]
     if np.isfinite(centre_edges).all():
         increment = abs(float(centre_edges[0] - centre_edges[-1])) / width
     else:
-        increment = float(view_angles.max() - view_angles.min()) / width
-    ahead_range, ahead_angle = _floor_polar(pose, intrinsics, np.array(intrinsics.cx),
-                                            np.array(height - 0.5))
-    span = _seen_span(pose, intrinsics, float(ahead_range), float(ahead_angle),
-                      float(view_angles.min()), float(view_angles.max()), increment, max_range_m)
-    if span is None:
-        return None
-    angle_min, angle_max, range_max = span
-    with np.errstate(invalid='ignore'):
-        in_range = in_view & (range_m <= range_max)
-        on_scan = in_range & (angle >= angle_min) & (angle <= angle_max)
-    bins = max(1, int(round((angle_max - angle_min) / increment)))
-    edge_in_range = np.isfinite(edge_range) & (edge_range <= range_max)
-    return ScanGeometry(np.where(on_scan, range_m, np.nan), np.where(on_scan, angle, np.nan),
+        increment = (angle_max - angle_min) / width
+    bins = max(1, int(math.ceil((angle_max - angle_min) / increment)))
+    return ScanGeometry(np.where(in_range, range_m, np.nan), np.where(in_range, angle, np.nan),
                         np.where(edge_in_range, edge_angle, np.nan), in_range,
                         angle_min + increment / 2.0, increment, bins,
-                        float(np.nanmin(range_m[on_scan])), range_max)
-
-
-SEEN_SAMPLES = 64
-"""Points per ray checked against the image when choosing the scan's span."""
-IN_VIEW_SLACK_PX = 1e-6
-"""Rounding allowance at the image's edges (px)."""
-REACH_BISECTIONS = 20
-"""Halvings that find where the ray straight ahead leaves the image (to a millionth of the
-sample spacing)."""
-
-
-def _seen_span(pose: CameraPose, intrinsics: CameraIntrinsics, ahead_range_m: float,
-               ahead_angle_rad: float, view_min_rad: float, view_max_rad: float,
-               increment: float, max_range_m: float):
-    """(angle_min, angle_max, range_max) of the scan, or None: range_max is how far the image
-    holds the ray through its bottom row's middle (at most ``max_range_m``); the angles are the
-    run of rays about it (``increment`` apart, within the view's angles) whose floor from that
-    distance out to range_max lies in the image or below its bottom row (nearer than the
-    bottom row: the scan's blind zone)."""
-    if not np.isfinite(ahead_range_m) or ahead_range_m > max_range_m:
-        return None
-    distances = np.linspace(ahead_range_m, max_range_m, SEEN_SAMPLES)
-    ahead = _ray_in_view(pose, intrinsics, ahead_angle_rad, distances)
-    range_max = max_range_m
-    if not ahead.all():
-        first_out = int(np.argmin(ahead))
-        inside, outside = float(distances[max(0, first_out - 1)]), float(distances[first_out])
-        for _ in range(REACH_BISECTIONS):
-            middle = (inside + outside) / 2.0
-            if _ray_in_view(pose, intrinsics, ahead_angle_rad, np.array([middle]))[0]:
-                inside = middle
-            else:
-                outside = middle
-        range_max = inside
-    distances = np.linspace(ahead_range_m, range_max, SEEN_SAMPLES)
-    low = high = ahead_angle_rad
-    while low - increment >= view_min_rad and _ray_in_view(pose, intrinsics, low - increment,
-                                                           distances).all():
-        low -= increment
-    while high + increment <= view_max_rad and _ray_in_view(pose, intrinsics, high + increment,
-                                                            distances).all():
-        high += increment
-    return low - increment / 2.0, high + increment / 2.0, range_max
-
-
-def _ray_in_view(pose: CameraPose, intrinsics: CameraIntrinsics, angle_rad: float,
-                 distances_m: np.ndarray) -> np.ndarray:
-    """Which floor points at ``distances_m`` along the scan frame's ray at ``angle_rad`` are in
-    the image or below its bottom row (in front of the camera, not beside or above the view)."""
-    points = np.stack((distances_m * math.cos(angle_rad), distances_m * math.sin(angle_rad),
-                       np.zeros_like(distances_m)), axis=-1)
-    in_front = ((points - np.asarray(pose.position, float)) @ pose.rotation)[:, 2] > 1e-6
-    seen = np.zeros(len(points), bool)
-    u, v = project_floor_points(pose, intrinsics, points).T
-    seen[in_front] = ((u >= -0.5 - IN_VIEW_SLACK_PX) & (u <= intrinsics.width - 0.5 + IN_VIEW_SLACK_PX)
-                      & (v >= -0.5 - IN_VIEW_SLACK_PX))
-    return seen
+                        float(np.nanmin(range_m[in_range])),
+                        float(np.nanmax(range_m[in_range])))
 
 
 HIDDEN = -2
