@@ -1,11 +1,16 @@
-"""The floor benchmark's judge and tour: misses, phantoms and a tour that keeps its clearance."""
+"""The floor benchmark's judge and tour: misses, phantoms, the white-balance lock against the
+true drift, frame drops on request, and a tour that keeps its clearance."""
 import math
 import random
 
 import numpy as np
+import pytest
 
-from can_seeker.evaluation.floor_bench import (EDGE_BINS, PATH_CLEARANCE_M, TourDriver,
-                                               clearance_m, score_scan, tour_targets)
+from can_seeker.evaluation.floor_bench import (EDGE_BINS, PATH_CLEARANCE_M, RoomResult,
+                                               ScanScore, TourDriver, bench_config,
+                                               clearance_m, score_scan, summary_rows,
+                                               tour_targets, white_balance_score)
+from can_seeker.sim.realism import PRESETS, spec_from_config
 from can_seeker.sim.scene import Scene, Solid, room_walls
 
 
@@ -59,3 +64,27 @@ def test_the_driver_turns_toward_its_target_then_drives():
     assert linear == 0.0 and angular < 0.0
     linear, angular = driver.command(0.0, 0.0, heading)
     assert linear > 0.0 and abs(angular) < 1e-9
+
+
+def test_the_white_balance_lock_is_judged_on_the_true_drift_beside_no_correction():
+    """Two frames: the lock 0.02 off in log R/G on one, exact on the other, against drifts of
+    (0.04, 0.04) and (-0.04, 0.04): RMS error 0.5 bin over both ratios and frames, drift 2
+    bins."""
+    score = ScanScore()
+    score.add(white_balance_score((0.06, 0.04), (0.04, 0.04)))
+    score.add(white_balance_score((-0.04, 0.04), (-0.04, 0.04)))
+    assert score.frames == 0 and score.wb_frames == 2
+    assert score.wb_error_bins == pytest.approx(0.5)
+    assert score.wb_drift_bins == pytest.approx(2.0)
+    room = RoomResult(7, 'look', 'mount')
+    room.score.add(score)
+    assert '| 0.50 / 2.00 |' in summary_rows([room])[2]
+    assert math.isnan(ScanScore().wb_error_bins)
+    assert '| - |' in summary_rows([RoomResult(8, 'look', 'mount')])[2]
+
+
+def test_the_bench_drops_frames_only_when_asked_and_then_as_the_preset_does():
+    assert spec_from_config(bench_config(2000, 'harsh', False, False)).camera_drop_rate == 0.0
+    kept = spec_from_config(bench_config(2000, 'harsh', False, False, frame_drops=True))
+    assert kept.camera_drop_rate == PRESETS['harsh'].camera_drop_rate > 0.0
+    assert kept.camera_latency_s == 0.0

@@ -79,6 +79,22 @@ def test_light_colour_temperature_is_what_white_balance_leaves_over():
                                100.0, atol=0.6)
 
 
+def test_each_frame_records_the_white_balance_drift_it_was_taken_with():
+    """The drift moves on after every frame; the shift recorded for a frame is the one its
+    colours show (log R/G and log B/G of a grey frame), the truth a white-balance lock is judged
+    on."""
+    model = camera(camera_wb_walk=0.05)
+    assert np.all(model.frame_wb_shift_log == 0.0)
+    shifts = []
+    for _ in range(20):
+        blue, green, red = model.apply(grey(128.0)).reshape(-1, 3).astype(float).mean(axis=0)
+        np.testing.assert_allclose(model.frame_wb_shift_log,
+                                   (math.log(red / green), math.log(blue / green)), atol=0.01)
+        shifts.append(model.frame_wb_shift_log)
+    assert np.abs(np.array(shifts)).max() > 0.05
+    assert np.any(model.wb_shift_log() != shifts[-1])
+
+
 def test_auto_exposure_starts_settled_and_follows_a_change_of_light():
     model = camera(light_intensity_min=0.5, light_intensity_max=0.5)
     assert abs(model.apply(grey(100.0)).mean() - 100.0) < 1.0

@@ -13,10 +13,14 @@ from the robot's centre in the bin's direction:
 - a **miss** is an obstacle base within ``near_m`` that the scan puts more than the tolerance
   farther away, or not at all: what lets a robot drive into a wall;
 - a **phantom** is a bin whose range is more than the tolerance short of the truth (or of the
-  farthest floor in view): what keeps a robot from driving where it could.
+  farthest floor in view): what keeps a robot from driving where it could;
+- with a camera whose white balance drifts, the floor model's white-balance lock is judged on
+  the drift each frame was taken with (the camera model's, not an estimate): its RMS error, in
+  bins of the lock's histogram (0.02 in log R/G and log B/G), beside the RMS of the drift
+  itself (the error of no correction at all).
 
-Frame latency and drops are turned off (the camera and the pose stay matched); everything else
-comes from the realism preset.
+Frame latency is turned off (the camera and the pose stay matched), and frame drops unless
+asked for; everything else comes from the realism preset.
 """
 import math
 import random
@@ -33,6 +37,7 @@ from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_c
 from can_seeker.sim.world import World
 from can_seeker.vision.camera_scan import CameraScanner
 from can_seeker.vision.floor import FloorSettings
+from can_seeker.vision.white_balance import CHROMA_BIN
 
 ROBOT_RADIUS_M = 0.165
 PATH_CLEARANCE_M = 0.21
@@ -63,6 +68,9 @@ class ScanScore:
     phantoms: int = 0
     frames: int = 0
     frames_with_miss: int = 0
+    wb_frames: int = 0
+    wb_error_sq: float = 0.0
+    wb_drift_sq: float = 0.0
 
     def add(self, other: 'ScanScore'):
         for name in vars(self):
@@ -75,6 +83,30 @@ class ScanScore:
     @property
     def phantom_rate(self) -> float:
         return self.phantoms / self.checked_bins if self.checked_bins else 0.0
+
+    @property
+    def wb_error_bins(self) -> float:
+        """RMS error of the white-balance lock over both log ratios (bins), NaN unjudged."""
+        return _rms_bins(self.wb_error_sq, self.wb_frames)
+
+    @property
+    def wb_drift_bins(self) -> float:
+        """RMS of the true drift over both log ratios (bins), NaN unjudged."""
+        return _rms_bins(self.wb_drift_sq, self.wb_frames)
+
+
+def _rms_bins(sum_sq_log: float, frames: int) -> float:
+    if not frames:
+        return math.nan
+    return math.sqrt(sum_sq_log / (2 * frames)) / CHROMA_BIN
+
+
+def white_balance_score(lock_shift_log, true_shift_log) -> ScanScore:
+    """Judge one frame's white-balance shift (log R/G, log B/G) against the drift the frame was
+    taken with."""
+    lock, truth = np.asarray(lock_shift_log, float), np.asarray(true_shift_log, float)
+    return ScanScore(wb_frames=1, wb_error_sq=float(np.sum((lock - truth) ** 2)),
+                     wb_drift_sq=float(np.sum(truth ** 2)))
 
 
 def score_scan(ranges_m: np.ndarray, truth_m: np.ndarray, range_min_m: float,
@@ -176,13 +208,15 @@ class RoomResult:
 
 
 def bench_config(seed: int, realism: str, randomize_appearance: bool,
-                 randomize_mount: bool) -> SimpleNamespace:
-    """The simulator configuration of a room trial of ``seed``, without frame latency or
-    drops."""
+                 randomize_mount: bool, frame_drops: bool = False) -> SimpleNamespace:
+    """The simulator configuration of a room trial of ``seed``, without frame latency, and
+    without frame drops unless ``frame_drops`` (then the preset's)."""
     values = {spec.name: spec.default for spec in PARAMS}
     values.update(world='room', seed=seed, realism=realism,
                   randomize_appearance=randomize_appearance, randomize_mount=randomize_mount,
-                  camera_latency_s=0.0, camera_drop_rate=0.0, scan_rate=0.0, lockstep=False)
+                  camera_latency_s=0.0, scan_rate=0.0, lockstep=False)
+    if not frame_drops:
+        values['camera_drop_rate'] = 0.0
     return checked_config(SimpleNamespace(**values), lambda text: None)
 
 
@@ -199,10 +233,11 @@ def _look_text(scene) -> str:
 def run_room(urdf_path: str, seed: int, floor_settings: FloorSettings, duration_s: float,
              realism: str = 'harsh', randomize_appearance: bool = False,
              randomize_mount: bool = False, near_m: float = 1.0, min_missed_bins: int = 5,
-             on_frame: Optional[Callable] = None) -> RoomResult:
-    """Drive the tour of the room of ``seed`` for ``duration_s`` (sim) and score every scan.
-    ``on_frame(image, scan, truth)`` sees each frame when given."""
-    config = bench_config(seed, realism, randomize_appearance, randomize_mount)
+             on_frame: Optional[Callable] = None, frame_drops: bool = False) -> RoomResult:
+    """Drive the tour of the room of ``seed`` for ``duration_s`` (sim) and score every scan
+    (with the preset's frame drops when ``frame_drops``). ``on_frame(image, scan, truth)`` sees
+    each frame when given."""
+    config = bench_config(seed, realism, randomize_appearance, randomize_mount, frame_drops)
     camera = camera_spec(config)
     pose = camera_pose_from_mount(camera.mount)
     intrinsics = camera.intrinsics
@@ -234,23 +269,33 @@ def run_room(urdf_path: str, seed: int, floor_settings: FloorSettings, duration_
             truth = beams[index].astype(np.float64)
             result.score.add(score_scan(scan.ranges, truth, geometry.range_min,
                                         geometry.range_max, near_m, min_missed_bins))
+            if simulation.realism.spec.camera_wb_walk > 0.0:
+                result.score.add(white_balance_score(scanner.floor.white_balance.shift_log,
+                                                     simulation.realism.camera.frame_wb_shift_log))
             if on_frame is not None:
                 on_frame(step.image, scan, truth)
     return result
 
 
+def _white_balance_text(score: ScanScore) -> str:
+    if not score.wb_frames:
+        return '-'
+    return '%.2f / %.2f' % (score.wb_error_bins, score.wb_drift_bins)
+
+
 def summary_rows(results: List[RoomResult]) -> List[str]:
     """Markdown rows: one per room, then the total."""
-    rows = ['| seed | near bins missed | frames with a miss | bins phantom | look | mount |',
-            '|---|---|---|---|---|---|']
+    rows = ['| seed | near bins missed | frames with a miss | bins phantom '
+            '| white balance off, lock / none (bins RMS) | look | mount |',
+            '|---|---|---|---|---|---|---|']
     total = ScanScore()
     for room in results:
         score = room.score
         total.add(score)
-        rows.append('| %d | %.2f %% | %d / %d | %.2f %% | %s | %s |' % (
+        rows.append('| %d | %.2f %% | %d / %d | %.2f %% | %s | %s | %s |' % (
             room.seed, 100.0 * score.miss_rate, score.frames_with_miss, score.frames,
-            100.0 * score.phantom_rate, room.look, room.mount))
-    rows.append('| all | %.2f %% | %d / %d | %.2f %% | | |' % (
+            100.0 * score.phantom_rate, _white_balance_text(score), room.look, room.mount))
+    rows.append('| all | %.2f %% | %d / %d | %.2f %% | %s | | |' % (
         100.0 * total.miss_rate, total.frames_with_miss, total.frames,
-        100.0 * total.phantom_rate))
+        100.0 * total.phantom_rate, _white_balance_text(total)))
     return rows

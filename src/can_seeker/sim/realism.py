@@ -245,6 +245,7 @@ class CameraModel:
         # The camera ran before the trial: its exposure has settled on this light.
         self.log_exposure_gain = -math.log(self.intensity)
         self.log_wb_drift = np.zeros(3)
+        self.frame_wb_shift_log = np.zeros(2)
 
     def channel_gains(self) -> np.ndarray:
         """Gain of each image channel (in the image's channel order) from the light, the
@@ -253,6 +254,13 @@ class CameraModel:
         gains_rgb = (self.intensity * math.exp(self.log_exposure_gain) * cast_rgb
                      * np.exp(self.log_wb_drift))
         return (gains_rgb[::-1] if self.encoding == 'bgr8' else gains_rgb).astype(np.float32)
+
+    def wb_shift_log(self) -> np.ndarray:
+        """The white-balance drift now as a log-chromaticity shift (log R/G, log B/G) from the
+        trial's start: what the floor model's white-balance lock should find.
+        ``frame_wb_shift_log`` holds it as it was for the last frame taken."""
+        drift = self.log_wb_drift
+        return np.array((drift[0] - drift[1], drift[2] - drift[1]))
 
     def _motion_blur(self, image: np.ndarray, linear_mps: float,
                      angular_radps: float) -> np.ndarray:
@@ -289,6 +297,7 @@ class CameraModel:
             image *= self._vignette
         scene_mean = float(image.mean()) * self.intensity
         image *= self.channel_gains()
+        self.frame_wb_shift_log = self.wb_shift_log()
         if spec.camera_read_noise or spec.camera_shot_noise:
             variance = spec.camera_shot_noise * np.maximum(image, 0.0) + spec.camera_read_noise ** 2
             image += np.sqrt(variance) * rng.standard_normal(image.shape, dtype=np.float32)

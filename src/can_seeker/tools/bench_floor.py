@@ -42,6 +42,9 @@ def parse_args(argv=None):
                         help='obstacle bases within this range (m) are judged for misses')
     parser.add_argument('--min-missed-bins', type=int, default=5,
                         help='missed bins that make a frame one with a miss')
+    parser.add_argument('--frame-drops', action='store_true',
+                        help='keep the realism preset\'s frame drops (a floor model then '
+                        'steps over a dropped frame, as obstacle_scan does)')
     parser.add_argument('--param', action='append', default=[], type=floor_override,
                         help='floor model parameter NAME=VALUE (repeatable)')
     parser.add_argument('--jobs', type=int, default=2, help='rooms run at once')
@@ -52,7 +55,7 @@ def _room(args, seed):
     settings = FloorSettings(**dict(args.param))
     return run_room(urdf_path(), seed, settings, args.duration, args.realism,
                     args.randomize_appearance, args.randomize_mount, args.near,
-                    args.min_missed_bins)
+                    args.min_missed_bins, frame_drops=args.frame_drops)
 
 
 def main(argv=None):
@@ -61,8 +64,9 @@ def main(argv=None):
     seeds = range(args.seed, args.seed + args.rooms)
     with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         results = list(pool.map(_room, [args] * len(seeds), seeds))
-    print('bench_floor: %d rooms from seed %d, %s realism, %.0f s each, floor %s (%.0f s)'
-          % (args.rooms, args.seed, args.realism, args.duration,
+    print('bench_floor: %d rooms from seed %d, %s realism%s, %.0f s each, floor %s (%.0f s)'
+          % (args.rooms, args.seed, args.realism,
+             ' with frame drops' if args.frame_drops else '', args.duration,
              dict(args.param) or 'defaults', time.monotonic() - start_s))
     for row in summary_rows(results):
         print(row)
