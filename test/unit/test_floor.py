@@ -248,7 +248,8 @@ def test_a_wall_with_one_tiles_hue_and_the_others_brightness_is_an_obstacle():
     tan, grey, wall = (150, 200, 235), (150, 150, 150), (95, 125, 150)
     recall, false_rate = wall_on_checker(tan, grey, wall, FloorSettings(min_joint_fraction=0.002))
     assert recall > 0.98 and false_rate < 0.002
-    assert wall_on_checker(tan, grey, wall, FloorSettings(min_joint_fraction=0.0))[0] < 0.1
+    assert wall_on_checker(tan, grey, wall, FloorSettings(min_joint_fraction=0.0,
+                                                          min_chroma_joint_fraction=0.0))[0] < 0.1
 
 
 def test_a_pinkish_grey_wall_on_a_greenish_grey_floor_is_an_obstacle():
@@ -263,6 +264,18 @@ def test_a_pinkish_grey_wall_on_a_greenish_grey_floor_is_an_obstacle():
     assert recall > 0.98 and false_rate < 0.002
     assert wall_on_checker(light, dark, wall, FloorSettings(min_faint_saturation=50,
                                                             min_chroma_fraction=0.0))[0] < 0.1
+
+
+def test_a_wall_with_one_tiles_chromaticity_and_the_others_brightness_is_an_obstacle():
+    """Random looks, seed 3122: a checker of a light pink tile and a mid pinkish grey one, and a
+    pink wall as bright as the mid tile. All three share a hue bin; the wall's chromaticity
+    (log R/G 0.32) is near the light tile's (0.27), its brightness the mid tile's: only the pair
+    of them is new to the floor (the robot drove into the wall while exploring)."""
+    light, mid, wall = (166, 167, 219), (117, 121, 147), (112, 112, 154)
+    recall, false_rate = wall_on_checker(light, mid, wall,
+                                         FloorSettings(min_chroma_joint_fraction=0.002))
+    assert recall > 0.98 and false_rate < 0.002
+    assert wall_on_checker(light, mid, wall, FloorSettings(min_chroma_joint_fraction=0.0))[0] < 0.1
 
 
 def test_a_cream_wall_on_a_checker_of_white_and_pale_blue_is_an_obstacle_by_its_chromaticity():

@@ -53,6 +53,11 @@ small and a tile edge stays sharp) and a pixel whose chromaticity the floor hold
 of is an obstacle. It learns every reference pixel that is floor by colour and intensity, so
 the other tile of a checker is learned once the robot has it in front; it needs the
 white-balance drift undone (``~max_colour_shift``) on a camera whose white balance drifts.
+The chromaticity histogram is joint with intensity, and with ``~min_chroma_joint_fraction`` a
+pixel is also an obstacle when the floor holds too little of its chromaticity at its
+brightness: on a floor of a light and a mid tile, a wall with the light tile's chromaticity
+and the mid tile's brightness (the hue test's joint rule, at the chromaticity's finer
+resolution).
 """
 from dataclasses import dataclass
 from typing import Optional
@@ -123,6 +128,10 @@ MIN_CHROMA_PIXELS = 200
 CHROMA_MIN_VALUE = 60
 """Pixels (medians) whose brightest channel is darker than this are not judged on their
 chromaticity: a few grey levels of noise are too large a ratio there."""
+CHROMA_JOINT_VALUE_TOLERANCE = JOINT_VALUE_TOLERANCE
+"""The joint chromaticity test sums the floor's mass over this many intensity bins (8 grey
+levels each, of a median's brightest channel) either side of a pixel's, besides the
+CHROMA_TOLERANCE_BINS: the same +-16 grey levels as the joint hue test."""
 
 FLOOR_PARAMS = (
     Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
@@ -158,6 +167,12 @@ FLOOR_PARAMS = (
           'each hold less than this fraction of the floor\'s is an obstacle: a cream wall is '
           'no white or pale blue floor tile, though all are too pale to have a hue; on a camera '
           'whose white balance drifts, it needs ~max_colour_shift (1; 0 = off)', 0.0, 1.0),
+    Param('min_chroma_joint_fraction', 0.002, 'a pixel whose log chromaticity (as for '
+          '~min_chroma_fraction) within 0.04 in each ratio and brightness (its median\'s '
+          'brightest channel) within 16 grey levels together hold less than this fraction of '
+          'the floor\'s is an obstacle, even when its chromaticity alone is common: on a floor '
+          'of a light and a mid tile, a wall with the light tile\'s chromaticity and the mid '
+          'tile\'s brightness (1; 0 = off; needs ~min_chroma_fraction)', 0.0, 1.0),
     Param('max_vignetting', 0.7, 'largest lens fall-off the floor model estimates from the '
           'images and undoes before classifying: brightness lost in the image corners (1, '
           'fraction; an estimate under 0.05 leaves the image alone; 0 = off)', 0.0, 0.9),
@@ -183,6 +198,7 @@ class FloorSettings:
     min_joint_fraction: float = 0.002
     min_faint_saturation: int = 50
     min_chroma_fraction: float = 0.002
+    min_chroma_joint_fraction: float = 0.002
     max_vignetting: float = 0.7
     min_edge_contrast: float = 1.5
 
@@ -344,9 +360,9 @@ class FloorClassifier:
             raw = self._obstacle_pixels(features)
         chroma = None
         if self.settings.min_chroma_fraction > 0.0:
-            chroma = chromaticity_bins(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX), CHROMA_MIN_VALUE)
+            chroma = chroma_features(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX))
             if self.chroma_model is None:
-                self.chroma_model = self._chroma_histogram(chroma, reference)
+                self._set_chroma_model(self._chroma_histogram(chroma, reference))
             appearance_floor = raw == 0
             raw[self._chroma_obstacles(chroma)] = 255
         floor = self._update_model(features, raw, reference)
@@ -358,26 +374,40 @@ class FloorClassifier:
 
     @staticmethod
     def _chroma_histogram(chroma, where):
-        """The normalised log-chromaticity histogram (CHROMA_SIZE x CHROMA_SIZE) of the
-        usable pixels of ``chroma`` (bins, usable) where ``where``, or None with too few."""
+        """The normalised histogram (CHROMA_SIZE x CHROMA_SIZE x VALUE_BINS: log B/G, log R/G,
+        brightness) of the usable pixels of ``chroma`` (see :func:`chroma_features`) where
+        ``where``, or None with too few."""
         bins, usable = chroma
         selected = bins[where & usable]
         if selected.size < MIN_CHROMA_PIXELS:
             return None
-        counts = np.bincount(selected, minlength=CHROMA_SIZE * CHROMA_SIZE)
-        return (counts / float(selected.size)).reshape(CHROMA_SIZE, CHROMA_SIZE)
+        counts = np.bincount(selected, minlength=CHROMA_SIZE * CHROMA_SIZE * VALUE_BINS)
+        return (counts / float(selected.size)).reshape(CHROMA_SIZE, CHROMA_SIZE, VALUE_BINS)
+
+    def _set_chroma_model(self, model):
+        """Keep ``model`` and, per joint bin, whether its pixels are rare on the floor: by
+        chromaticity alone (~min_chroma_fraction) or by chromaticity and brightness together
+        (~min_chroma_joint_fraction)."""
+        self.chroma_model = model
+        if model is None:
+            return
+        side = 2 * CHROMA_TOLERANCE_BINS + 1
+        near = cv2.boxFilter(model.sum(axis=2), -1, (side, side), normalize=False,
+                             borderType=cv2.BORDER_CONSTANT)
+        rare = np.repeat((near < self.settings.min_chroma_fraction)[:, :, None], VALUE_BINS,
+                         axis=2)
+        if self.settings.min_chroma_joint_fraction > 0.0:
+            rare |= _chroma_joint_neighbourhood(model) < self.settings.min_chroma_joint_fraction
+        self._chroma_rare = rare.ravel()
 
     def _chroma_obstacles(self, chroma) -> np.ndarray:
-        """Boolean image: usable pixels whose log chromaticity the floor holds too little
-        of within CHROMA_TOLERANCE_BINS (none while the floor has no chromaticity model)."""
-        if self.chroma_model is None:
-            return np.zeros(chroma[1].shape, bool)
-        side = 2 * CHROMA_TOLERANCE_BINS + 1
-        near = cv2.boxFilter(self.chroma_model, -1, (side, side), normalize=False,
-                             borderType=cv2.BORDER_CONSTANT)
-        rare = (near < self.settings.min_chroma_fraction).ravel()
+        """Boolean image: usable pixels whose chromaticity, or chromaticity and brightness
+        together, the floor holds too little of (none while the floor has no chromaticity
+        model)."""
         bins, usable = chroma
-        return usable & rare[np.where(usable, bins, 0)]
+        if self.chroma_model is None:
+            return np.zeros(usable.shape, bool)
+        return usable & self._chroma_rare[np.where(usable, bins, 0)]
 
     def _learn_chroma(self, chroma, floor):
         """Blend the chromaticity of ``floor`` (reference pixels of a frame that teaches the
@@ -388,10 +418,10 @@ class FloorClassifier:
         if current is None:
             return
         if self.chroma_model is None:
-            self.chroma_model = current
+            self._set_chroma_model(current)
         else:
             rate = self.settings.adapt_rate
-            self.chroma_model = (1.0 - rate) * self.chroma_model + rate * current
+            self._set_chroma_model((1.0 - rate) * self.chroma_model + rate * current)
 
     def _floor_share(self, bgr):
         """shift (log R/G, log B/G) -> the share (0-1) of the frame ``bgr`` (every second pixel)
@@ -406,7 +436,7 @@ class FloorClassifier:
             if self.settings.min_chroma_fraction > 0.0 and self.chroma_model is not None:
                 if not medians:
                     medians.append(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX)[::2, ::2])
-                chroma = chromaticity_bins(undo_shift(medians[0], shift_log), CHROMA_MIN_VALUE)
+                chroma = chroma_features(undo_shift(medians[0], shift_log))
                 obstacle |= self._chroma_obstacles(chroma)
             return 1.0 - float(np.count_nonzero(obstacle)) / obstacle.size
         return share
@@ -468,6 +498,28 @@ class FloorClassifier:
         if keep[1:].all():
             return opened
         return np.where(keep[labels], 255, 0).astype(np.uint8)
+
+
+def chroma_features(median_bgr: np.ndarray):
+    """(bin, usable) of uint8 BGR pixels (5x5 medians): the flat index of each pixel's
+    (log B/G, log R/G, brightness) bin, brightness being the brightest channel in VALUE_BINS,
+    and whether its chromaticity is reliable (see :func:`chromaticity_bins`)."""
+    bins, usable = chromaticity_bins(median_bgr, CHROMA_MIN_VALUE)
+    blue, green, red = cv2.split(median_bgr)
+    brightest = cv2.max(cv2.max(blue, green), red)
+    return bins * VALUE_BINS + cv2.LUT(brightest, VALUE_BIN_LUT), usable
+
+
+def _chroma_joint_neighbourhood(model: np.ndarray) -> np.ndarray:
+    """CHROMA_SIZE x CHROMA_SIZE x VALUE_BINS: the joint chromaticity model's mass within
+    CHROMA_TOLERANCE_BINS in either ratio and CHROMA_JOINT_VALUE_TOLERANCE intensity bins of each
+    bin (outside the histogram counts as none)."""
+    value_side = 2 * CHROMA_JOINT_VALUE_TOLERANCE + 1
+    along_value = cv2.boxFilter(model.reshape(-1, VALUE_BINS), -1, (value_side, 1),
+                                normalize=False, borderType=cv2.BORDER_CONSTANT)
+    side = 2 * CHROMA_TOLERANCE_BINS + 1
+    return cv2.boxFilter(along_value.reshape(model.shape), -1, (side, side), normalize=False,
+                         borderType=cv2.BORDER_CONSTANT)
 
 
 def _floor_along(floor_u8: np.ndarray, step, reach_px: int) -> np.ndarray:
