@@ -5,8 +5,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from can_seeker.camera_geometry import camera_pose_from_transform
-from can_seeker.control.navigation import CameraView, Pose2D
+from can_seeker.camera_geometry import (camera_pose_from_mount, camera_pose_from_transform,
+                                        intrinsics_from_vertical_fov)
+from can_seeker.camera_mount import CameraMount
+from can_seeker.control.navigation import CameraView, Pose2D, camera_view
 from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
                                 camera_floor_pose, dead_band, detection_problem,
                                 detection_shows_can, sighting_from_detection)
@@ -738,46 +740,40 @@ def test_commands_do_not_depend_on_when_the_trial_started():
     assert commands(1.2208333333333334) == commands(1.4208333333333334)
 
 
-def test_unknown_floor_below_the_cameras_view_makes_the_robot_back_up_to_see_it():
-    """The image's bottom row meets the floor 0.5 m ahead of the camera: floor just in front of
-    the robot that no sensor has observed stays below the view however the robot turns, so the
-    robot backs up (floor behind it observed) until that floor is 5 cm inside the view, and
-    drives on once a scan has observed it; with an obstacle behind it, it turns to look
-    instead."""
-    def backing_up(obstacle_behind):
-        controller = make_controller(scan_topics='/scan')
-        controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5,
-                                              0.5))
-        controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
-        controller.observe_scan('/scan', *CLEAR_SCAN, (0.0, 0.0), 0.0)
-        grid = controller.navigator.grid
-        fine = np.arange(grid.observed.shape[0]) * grid.observed_resolution_m + grid.origin_m
-        ahead_x = (fine >= 0.2) & (fine < 0.45)
-        beside_y = (fine >= -0.2) & (fine < 0.2)
-        grid.observed[np.ix_(ahead_x, beside_y)] = False
-        rear = CLEAR_SCAN[0][:, 0] < -0.1
-        ends, hits = CLEAR_SCAN[0][rear], CLEAR_SCAN[1][rear]
-        if obstacle_behind:
-            ends, hits = np.vstack((ends, [[-0.3, 0.0]])), np.append(hits, True)
-        x_m, now, commands, reasons = 0.0, 0.0, [], []
-        for _ in range(int(8.0 / DT)):
-            controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
-            controller.observe_scan('/scan', ends, hits, (0.0, 0.0), now)
-            controller.observe(Sighting(1.0 - x_m, 0.0), now)
-            commands.append(controller.command(now))
-            reasons.append(controller.why)
-            if len(commands) > 5 and commands[-1][0] >= 0.0 and commands[-2][0] < 0.0:
-                break
-            x_m += commands[-1][0] * DT
-            now += DT
-        return controller, x_m, commands, reasons, now
+def backing_up_to_see(view, unknown_x, unknown_y, obstacle_behind=False, duration_s=8.0):
+    """Drive toward a can 1 m ahead seen by ``view``, with the floor in the box ``unknown_x``
+    by ``unknown_y`` (base_link, m) never observed and the floor behind observed by a scan,
+    until the robot first drives forward after backing up: (controller, x m, commands,
+    reasons, time s)."""
+    controller = make_controller(scan_topics='/scan')
+    controller.set_camera_view(view)
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe_scan('/scan', *CLEAR_SCAN, (0.0, 0.0), 0.0)
+    grid = controller.navigator.grid
+    fine = np.arange(grid.observed.shape[0]) * grid.observed_resolution_m + grid.origin_m
+    ahead_x = (fine >= unknown_x[0]) & (fine < unknown_x[1])
+    beside_y = (fine >= unknown_y[0]) & (fine < unknown_y[1])
+    grid.observed[np.ix_(ahead_x, beside_y)] = False
+    rear = CLEAR_SCAN[0][:, 0] < -0.1
+    ends, hits = CLEAR_SCAN[0][rear], CLEAR_SCAN[1][rear]
+    if obstacle_behind:
+        ends, hits = np.vstack((ends, [[-0.3, 0.0]])), np.append(hits, True)
+    x_m, now, commands, reasons = 0.0, 0.0, [], []
+    for _ in range(int(duration_s / DT)):
+        controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
+        controller.observe_scan('/scan', ends, hits, (0.0, 0.0), now)
+        controller.observe(Sighting(1.0 - x_m, 0.0), now)
+        commands.append(controller.command(now))
+        reasons.append(controller.why)
+        if len(commands) > 5 and commands[-1][0] >= 0.0 and commands[-2][0] < 0.0:
+            break
+        x_m += commands[-1][0] * DT
+        now += DT
+    return controller, x_m, commands, reasons, now
 
-    controller, x_m, commands, reasons, now = backing_up(obstacle_behind=False)
-    assert reasons[0].endswith('below the camera\'s view: backing up to see it')
-    assert commands[20] == (pytest.approx(-DEFAULTS['max_reverse']), 0.0)
-    assert 'backing up' in reasons[20]
-    # then the nearest unknown floor's cell is 5 cm inside the view (to a tick's travel)
-    assert 0.4 < -x_m < 0.5
+
+def drive_on_with_the_floor_observed(controller, x_m, now):
+    """Two more seconds with a scan that observes all the floor: (last command, x m)."""
     for _ in range(int(2.0 / DT)):
         controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
         controller.observe_scan('/scan', *CLEAR_SCAN, (0.0, 0.0), now)
@@ -785,9 +781,46 @@ def test_unknown_floor_below_the_cameras_view_makes_the_robot_back_up_to_see_it(
         command = controller.command(now)
         x_m += command[0] * DT
         now += DT
+    return command, x_m
+
+
+def test_unknown_floor_below_the_cameras_view_makes_the_robot_back_up_to_see_it():
+    """The image's bottom row meets the floor 0.5 m ahead of the camera: floor just in front of
+    the robot that no sensor has observed stays below the view however the robot turns, so the
+    robot backs up (floor behind it observed) until that floor is 5 cm inside the view, and
+    drives on once a scan has observed it; with an obstacle behind it, it turns to look
+    instead."""
+    view = CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5, 0.5)
+    controller, x_m, commands, reasons, now = backing_up_to_see(view, (0.2, 0.45), (-0.2, 0.2))
+    assert reasons[0].endswith('below the camera\'s view: backing up to see it')
+    assert commands[20] == (pytest.approx(-DEFAULTS['max_reverse']), 0.0)
+    assert 'backing up' in reasons[20]
+    # then the unknown floor's nearest cells (0.2 m ahead of base_link, 0.08 m ahead of the
+    # camera) are half a cell and 5 cm beyond the bottom row's 0.5 m (to a tick's travel)
+    assert 0.45 < -x_m < 0.52
+    command, _ = drive_on_with_the_floor_observed(controller, x_m, now)
     assert command[0] > 0.1 and controller.why == ''
 
-    controller, x_m, commands, reasons, _ = backing_up(obstacle_behind=True)
+    controller, x_m, commands, reasons, _ = backing_up_to_see(view, (0.2, 0.45), (-0.2, 0.2),
+                                                              obstacle_behind=True)
     assert len(commands) == int(8.0 / DT)
     assert x_m == 0.0 and all(command[0] == 0.0 for command in commands)
     assert abs(commands[-1][1]) > 0.0 and reasons[-1].endswith('turning to look at it')
+
+
+def test_unknown_floor_beside_the_front_backs_a_steep_camera_up_until_the_view_is_wide_enough():
+    """A camera 0.18 m up pitched 34 deg down sees the floor from 0.12 m ahead of it, but only
+    0.11 m either side there, narrower than the robot (0.165 m radius), and 0.45 m wider per m
+    farther. Floor never observed beside the robot's front, 0.12-0.25 m to the left, comes
+    into view only once the robot has backed up about 0.4 m; backing up till it is 5 cm
+    beyond the bottom row, as for floor dead ahead, left it outside the view, and the robot
+    went back and forth in place."""
+    pose = camera_pose_from_mount(CameraMount(0.18, 34.3))
+    view = camera_view(pose, intrinsics_from_vertical_fov(320, 240, 45.0), 2.5, 0.122)
+    assert view.base_half_width_m == pytest.approx(0.11, abs=0.005)
+    assert view.side_slope == pytest.approx(0.45, abs=0.01)
+    controller, x_m, commands, reasons, now = backing_up_to_see(view, (0.1, 0.3), (0.12, 0.25))
+    assert reasons[0].endswith('below the camera\'s view: backing up to see it')
+    assert 0.3 < -x_m < 0.5
+    command, driven_x_m = drive_on_with_the_floor_observed(controller, x_m, now)
+    assert driven_x_m > x_m + 0.1 and command[0] > 0.1 and controller.why == ''

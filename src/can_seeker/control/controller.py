@@ -879,15 +879,17 @@ class Controller:
         return safe, angular
 
     def _below_view_m(self, point_base: np.ndarray) -> float:
-        """How much nearer (m) floor point ``point_base`` (base_link) is to the camera's floor
-        point than the floor of the image's bottom row, with half a grid cell to spare (0 when
-        it is not, or the view is not known): no turn in place brings such floor into view,
-        only backing up that far."""
+        """How far (m) the robot must back up for floor point ``point_base`` (base_link) to
+        come half a grid cell inside the image's floor (see
+        :meth:`CameraView.back_up_to_see_m`; 0 when it is in view, no backing up brings it
+        there or the view is not known): beside the robot's front, below the narrow bottom of
+        a steep camera's view, that is farther than below its middle, and no turn in place
+        brings such floor into view."""
         view = self.camera_view
         if view is None or view.base_near_m <= 0.0:
             return 0.0
-        distance_m = math.hypot(point_base[0] - view.x, point_base[1] - view.y)
-        return max(0.0, view.base_near_m + self.navigator.grid.resolution_m / 2.0 - distance_m)
+        back_m = view.back_up_to_see_m(point_base, self.navigator.grid.resolution_m / 2.0)
+        return back_m if math.isfinite(back_m) else 0.0
 
     def _can_back_up(self, exclude, radius_m: float) -> bool:
         """True when the safety layer lets the robot back up at ~max_reverse."""

@@ -44,7 +44,10 @@ class CameraView:
     """The floor the camera covers, in base_link: from (x, y) looking along ``yaw`` (rad),
     ``half_fov_rad`` either side, from ``near_m`` to ``far_m`` away on the floor.
     ``base_near_m`` is where the floor enters the image's bottom row, along ``yaw``: nearer, a
-    target's base is below the image (0: unknown)."""
+    target's base is below the image (0: unknown). The floor the image holds lies beyond that
+    row's floor line and between the floor lines of its side columns, which cross it
+    ``base_half_width_m`` either side of ``yaw`` and run out ``side_slope`` m wider per m
+    farther (a pitched camera sees a trapezoid of floor, narrowest at the bottom row)."""
 
     x: float
     y: float
@@ -53,6 +56,24 @@ class CameraView:
     near_m: float
     far_m: float
     base_near_m: float = 0.0
+    base_half_width_m: float = math.inf
+    side_slope: float = 0.0
+
+    def back_up_to_see_m(self, point_base: Sequence[float], margin_m: float) -> float:
+        """How far (m) the robot must back up straight for floor point ``point_base``
+        (base_link) to lie ``margin_m`` inside the image's floor: past the bottom row's floor
+        line and between the side columns' (0 when it does already, inf when no backing up
+        brings it between them)."""
+        dx, dy = point_base[0] - self.x, point_base[1] - self.y
+        forward_m = dx * math.cos(self.yaw) + dy * math.sin(self.yaw)
+        lateral_m = abs(-dx * math.sin(self.yaw) + dy * math.cos(self.yaw))
+        needed_m = self.base_near_m + margin_m
+        outside_m = lateral_m + margin_m - self.base_half_width_m
+        if outside_m > 0.0:
+            if self.side_slope <= 0.0:
+                return math.inf
+            needed_m += outside_m / self.side_slope
+        return max(0.0, needed_m - forward_m)
 
 
 def camera_view(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: float,
@@ -74,8 +95,36 @@ def camera_view(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: flo
     near_m = 0.0
     if near is not None and pose.height_m > 0.0:
         near_m = near * max(0.0, 1.0 - target_height_m / pose.height_m)
+    half_width_m, side_slope = _floor_sides(pose, intrinsics)
     return CameraView(float(camera_xy[0]), float(camera_xy[1]), pose.heading_rad, half_fov,
-                      near_m, far_m, 0.0 if near is None else near)
+                      near_m, far_m, 0.0 if near is None else near, half_width_m, side_slope)
+
+
+def _floor_sides(pose: CameraPose, intrinsics: CameraIntrinsics) -> Tuple[float, float]:
+    """(half width m, slope) of the image's floor trapezoid (see :class:`CameraView`): the
+    nearer to the heading of its two side columns' floor points on the bottom row, and the
+    smaller growth of the two sides between that row and the one halfway up to the centre
+    ((inf, 0) when the bottom row does not meet the floor)."""
+    heading = pose.heading_rad
+    along = np.array((math.cos(heading), math.sin(heading)))
+    across = np.array((-math.sin(heading), math.cos(heading)))
+    bottom_v = intrinsics.height - 1.0
+    upper_v = (bottom_v + intrinsics.cy) / 2.0
+    half_widths, slopes = [], []
+    for u in (0.0, intrinsics.width - 1.0):
+        near = floor_point(pose, intrinsics, u, bottom_v)
+        if near is None:
+            return math.inf, 0.0
+        near_offset = np.array(near) - np.array(pose.position[:2], float)
+        half_widths.append(abs(float(near_offset @ across)))
+        far = floor_point(pose, intrinsics, u, upper_v)
+        if far is None:
+            slopes.append(0.0)
+            continue
+        step = np.array(far) - np.array(near)
+        slopes.append(max(0.0, abs(float((near_offset + step) @ across)) - half_widths[-1])
+                      / max(float(step @ along), 1e-9))
+    return min(half_widths), min(slopes)
 
 
 class Navigator:
