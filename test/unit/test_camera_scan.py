@@ -70,6 +70,35 @@ def test_bottom_row_obstacle_is_at_most_the_nearest_floor_and_far_ones_are_cut()
     assert np.min(left) < geometry.range_min + 0.1
 
 
+def test_a_column_taken_for_floor_up_past_the_horizon_measures_nothing():
+    """A camera pitched 10 deg down sees the horizon 51 rows above the image centre. A column
+    the floor model takes for floor up to above it holds something of the floor's colour
+    standing somewhere along it (no floor lies there): NaN, not free floor, also where a band
+    of it just above the horizon is an obstacle (its shading). A column whose obstacle pixels
+    reach down to the horizon (a wall it tells from the floor, beyond range) is free up to
+    range_max, and one with an obstacle in range is measured."""
+    pose = camera_pose_from_mount(CameraMount(0.3, 10.0))
+    geometry = scan_geometry(pose, INTRINSICS, 4.0)
+    horizon_row = INTRINSICS.cy - INTRINSICS.fy * math.tan(math.radians(10.0))
+    assert not geometry.sky[int(horizon_row) + 1:].any()
+    assert geometry.sky[:int(horizon_row) - 3].all()
+    obstacles = np.zeros((HEIGHT, WIDTH), np.uint8)
+    obstacles[:int(horizon_row) - 1, :100] = 255         # a wall told from the floor
+    obstacles[120:150, 100:140] = 255                    # an obstacle in range
+    obstacles[int(horizon_row) - 6:int(horizon_row) - 3, 300:] = 255   # shading
+    rows = lowest_obstacle_rows(obstacles, geometry.in_range, sky=geometry.sky)
+    ranges = scan_ranges(geometry, rows)
+    angles = bin_angles(geometry)
+    wall = angles > math.atan2(WIDTH / 2 - 95, INTRINSICS.fx)
+    unjudged = angles < math.atan2(WIDTH / 2 - 145, INTRINSICS.fx)
+    assert np.all(np.isinf(ranges[wall]))
+    assert np.all(np.isnan(ranges[unjudged]))
+    assert np.isfinite(ranges).sum() == pytest.approx(40, abs=3)
+    # without the horizon, floor up to the top of the image reads as free floor
+    assert not np.isnan(scan_ranges(geometry, lowest_obstacle_rows(
+        obstacles, geometry.in_range))).any()
+
+
 # Rendered scenes: boxes (centre x, y, half sizes x, y, height) and cylinders (x, y, radius,
 # height) on a uniform floor, in base_link of the robot at the origin.
 BOXES = ((2.3, -0.2, 0.1, 0.6, 0.4), (1.1, 0.45, 0.15, 0.1, 0.25))

@@ -13,6 +13,13 @@ view); angles span the camera's view as seen from that origin, increasing to the
 range_min the nearest. An obstacle already at the image's bottom edge is reported at the
 bottom row's floor distance: it is at most that far. The target can is no obstacle; where it
 hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
+
+No floor lies above the horizon. A column with no obstacle in range whose pixels above the
+horizon (by :data:`HORIZON_MARGIN_RAD`) the floor model takes for floor (see
+:func:`lowest_obstacle_rows`) shows something the model cannot tell from the floor, a wall
+of the floor's colour, standing anywhere along it: that column measures nothing either (NaN),
+so the floor along it is never vouched for as free. Only a camera that sees the horizon can
+tell.
 """
 import math
 from dataclasses import dataclass
@@ -41,6 +48,16 @@ SCAN_PARAMS = (
 CAN_MARGIN = 0.25
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
 width sideways, so a can's silver rims and white band are not obstacles either."""
+HORIZON_MARGIN_RAD = math.radians(0.5)
+"""Pixels whose ray points this far above the horizontal or more see no floor: at 0.5 deg below
+it, the floor lies 34 m from a camera 0.3 m up, farther than any room's wall."""
+MIN_SKY_FLOOR_PX = 3
+"""Pixels above the horizon taken for floor that make a column unjudged: a few (one or two at
+a wall's top edge may be blur), right above the floor the column shows (a wall of the floor's
+colour up past the horizon)..."""
+MIN_SKY_FLOOR_SHARE = 0.5
+"""... or this share of all of them (an obstacle region within such a wall, from its shading,
+must not make the rest count for nothing)."""
 
 
 @dataclass(frozen=True)
@@ -50,7 +67,8 @@ class ScanGeometry:
     ``range_m``/``angle_rad`` (H x W) are the range and angle of the floor point under each
     pixel's lower edge (NaN where the ray misses the floor or is beyond ``range_max``);
     ``edge_angle_rad`` (H x W+1) the angles at the pixels' left/right edges. Scan bins are
-    ``angle_min + i * angle_increment`` (rad), ``bins`` of them.
+    ``angle_min + i * angle_increment`` (rad), ``bins`` of them. ``sky`` (H x W) marks the
+    pixels whose ray points at least HORIZON_MARGIN_RAD above the horizontal.
     """
 
     range_m: np.ndarray
@@ -62,16 +80,22 @@ class ScanGeometry:
     bins: int
     range_min: float
     range_max: float
+    sky: np.ndarray
 
     @property
     def angle_max(self) -> float:
         return self.angle_min + (self.bins - 1) * self.angle_increment
 
 
+def _rays(pose: CameraPose, intrinsics: CameraIntrinsics, u, v) -> np.ndarray:
+    """Ray directions (..., 3) through pixel coordinates (u, v) (px), in the scan frame."""
+    return np.stack(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy,
+                     np.ones_like(u)), axis=-1) @ pose.rotation.T
+
+
 def _floor_polar(pose: CameraPose, intrinsics: CameraIntrinsics, u, v):
     """(range, angle) arrays of the floor points under pixel coordinates (u, v) (px)."""
-    rays = np.stack(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy,
-                     np.ones_like(u)), axis=-1) @ pose.rotation.T
+    rays = _rays(pose, intrinsics, u, v)
     with np.errstate(divide='ignore', invalid='ignore'):
         scale = np.where(rays[..., 2] < 0.0, -pose.height_m / rays[..., 2], np.nan)
     x = pose.position[0] + scale * rays[..., 0]
@@ -105,29 +129,49 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
     else:
         increment = (angle_max - angle_min) / width
     bins = max(1, int(math.ceil((angle_max - angle_min) / increment)))
+    centre_rays = _rays(pose, intrinsics, u, v - 0.5)
+    sky = (centre_rays[..., 2] / np.linalg.norm(centre_rays, axis=-1)
+           >= math.sin(HORIZON_MARGIN_RAD))
     return ScanGeometry(np.where(in_range, range_m, np.nan), np.where(in_range, angle, np.nan),
                         np.where(edge_in_range, edge_angle, np.nan), in_range,
                         angle_min + increment / 2.0, increment, bins,
                         float(np.nanmin(range_m[in_range])),
-                        float(np.nanmax(range_m[in_range])))
+                        float(np.nanmax(range_m[in_range])), sky)
 
 
 HIDDEN = -2
 """Obstacle row of a column whose floor right behind the target can is hidden by the can."""
+UNJUDGED = -3
+"""Obstacle row of a column whose floor the floor model cannot tell from what stands on it."""
+
+
+def _lowest_rows(candidates: np.ndarray) -> np.ndarray:
+    """Per column, the lowest row (px) where ``candidates`` is true, -1 if none."""
+    rows = candidates.shape[0] - 1 - np.argmax(candidates[::-1], axis=0)
+    return np.where(candidates.any(axis=0), rows, -1)
 
 
 def lowest_obstacle_rows(obstacles: np.ndarray, in_range: np.ndarray,
-                         can_box=None) -> np.ndarray:
+                         can_box=None, sky: Optional[np.ndarray] = None) -> np.ndarray:
     """Per column, the lowest row (px) holding an obstacle pixel within range, -1 if none.
 
     Columns through ``can_box`` (x0, y0, x1, y1, inclusive; its pixels are no obstacle) with
     nothing nearer than the can are HIDDEN when what lies right behind the can is not seen:
     an obstacle touches the box's top, or the box reaches beyond the range or the image top.
+    Other columns without an obstacle are UNJUDGED when the floor model takes their ``sky``
+    pixels (H x W bool) for floor: at least MIN_SKY_FLOOR_PX of them right above the floor
+    (below the column's lowest obstacle pixel), or at least MIN_SKY_FLOOR_PX and
+    MIN_SKY_FLOOR_SHARE of them anywhere.
     """
-    candidates = (obstacles > 0) & in_range
-    from_bottom = np.argmax(candidates[::-1], axis=0)
-    rows = candidates.shape[0] - 1 - from_bottom
-    rows = np.where(candidates.any(axis=0), rows, -1)
+    obstacle = obstacles > 0
+    rows = _lowest_rows(obstacle & in_range)
+    if sky is not None:
+        below = np.arange(obstacle.shape[0])[:, None] > _lowest_rows(obstacle)[None, :]
+        floor_sky = np.count_nonzero(sky & ~obstacle, axis=0)
+        unjudged = ((np.count_nonzero(sky & below, axis=0) >= MIN_SKY_FLOOR_PX)
+                    | ((floor_sky >= MIN_SKY_FLOOR_PX)
+                       & (floor_sky >= MIN_SKY_FLOOR_SHARE * np.count_nonzero(sky, axis=0))))
+        rows = np.where((rows == -1) & unjudged, UNJUDGED, rows)
     if can_box is not None:
         x0, y0, x1, _ = can_box
         columns = slice(x0, x1 + 1)
@@ -169,25 +213,32 @@ def _spread(first, last):
 def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray,
                 can_bottom_row: int = -1) -> np.ndarray:
     """LaserScan ranges (m, float32) from per-column obstacle rows: +inf = no obstacle in view,
-    NaN = hidden behind the can (HIDDEN columns, seen at ``can_bottom_row``) and nothing else
-    seen in that direction.
+    NaN = hidden behind the can (HIDDEN columns, seen at ``can_bottom_row``) or UNJUDGED (all
+    the bins their floor in range spans), and nothing else seen in that direction.
 
     Each column's base point covers the bins between the angles of its left and right pixel
     edges (at least the bin of its centre), so a wall gives a scan without gaps.
     """
     ranges = np.full(geometry.bins, np.inf, np.float64)
+    unmeasured = np.zeros(geometry.bins, bool)
     hidden = np.flatnonzero(obstacle_rows == HIDDEN)
-    hidden_bins = np.zeros(geometry.bins, bool)
     if hidden.size and can_bottom_row >= 0:
         first, last, _ = _column_bins(geometry, np.full(hidden.size, can_bottom_row), hidden)
-        hidden_bins[_spread(first, last)[0]] = True
+        unmeasured[_spread(first, last)[0]] = True
+    unjudged = np.flatnonzero(obstacle_rows == UNJUDGED)
+    if unjudged.size:
+        in_range = geometry.in_range[:, unjudged]
+        seen = in_range.any(axis=0)
+        for rows in (_lowest_rows(in_range), np.argmax(in_range, axis=0)):
+            first, last, _ = _column_bins(geometry, rows[seen], unjudged[seen])
+            unmeasured[_spread(first, last)[0]] = True
     columns = np.flatnonzero(obstacle_rows >= 0)
     if columns.size:
         rows = obstacle_rows[columns]
         first, last, valid = _column_bins(geometry, rows, columns)
         bins, owners = _spread(first, last)
         np.minimum.at(ranges, bins, geometry.range_m[rows, columns][valid][owners])
-    ranges[hidden_bins & np.isinf(ranges)] = np.nan
+    ranges[unmeasured & np.isinf(ranges)] = np.nan
     return ranges.astype(np.float32)
 
 
@@ -272,7 +323,7 @@ class CameraScanner:
         if geometry is None or geometry.range_m.shape != obstacles.shape:
             rows = lowest_obstacle_rows(obstacles, np.ones(obstacles.shape, bool), box)
             return CameraScan(obstacles, rows, None, can)
-        rows = lowest_obstacle_rows(obstacles, geometry.in_range, box)
+        rows = lowest_obstacle_rows(obstacles, geometry.in_range, box, geometry.sky)
         ranges = scan_ranges(geometry, rows, -1 if box is None else box[3])
         return CameraScan(obstacles, rows, ranges, can)
 
