@@ -11,8 +11,9 @@ from can_seeker.camera_geometry import (camera_pose_from_mount, floor_point,
                                         intrinsics_from_vertical_fov)
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.world import CameraSpec, World
-from can_seeker.vision.camera_scan import (CameraScanner, draw_obstacles, lowest_obstacle_rows,
-                                           scan_geometry, scan_ranges)
+from can_seeker.vision.camera_scan import (SCAN_DEFAULTS, CameraScanner, draw_obstacles,
+                                           lowest_obstacle_rows, robot_pixels, scan_geometry,
+                                           scan_ranges)
 from can_seeker.vision.floor import FloorSettings
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
@@ -292,3 +293,52 @@ def test_the_excluded_can_is_the_most_can_like_red_blob_not_the_largest():
     poster_x = floor_point(POSE, INTRINSICS, INTRINSICS.cx, 111.5)[0]
     assert np.allclose(result.ranges[behind_poster], poster_x / np.cos(angles[behind_poster]),
                        rtol=0.02)
+
+
+LOW_STEEP_MOUNT = CameraMount(0.15, 35.0)
+"""A camera low and steep enough to see the front of the robot's top (random mount 3170)."""
+
+
+def test_a_low_steep_camera_sees_its_robot_where_the_body_model_says():
+    """Rendered with the robot's body green, the green pixels at the bottom of the image are
+    the ones whose rays meet the body's top (~robot_radius, ~robot_height) before the floor
+    (the renderer's cylinder is a polygon: the model's circle reaches a little wider beside its
+    front); the default mount sees none of it, and no robot pixel measures floor."""
+    pose = camera_pose_from_mount(LOW_STEEP_MOUNT)
+    with World(URDF, CameraSpec(WIDTH, HEIGHT, 45.0, LOW_STEEP_MOUNT)) as world:
+        client = world._client
+        client.changeVisualShape(world._robot, -1, rgbaColor=(0.0, 1.0, 0.0, 1))
+        world.place_can(8.0, 8.0)
+        image = world.render().astype(int)
+    green = (image[..., 1] > image[..., 2] + 40) & (image[..., 1] > image[..., 0] + 40)
+    body = robot_pixels(pose, INTRINSICS, SCAN_DEFAULTS.robot_radius, SCAN_DEFAULTS.robot_height)
+    assert green.sum() > 500
+    assert (green & body).sum() >= 0.9 * green.sum()
+    assert body.sum() <= 2.0 * green.sum()
+    assert not robot_pixels(POSE, INTRINSICS, SCAN_DEFAULTS.robot_radius,
+                            SCAN_DEFAULTS.robot_height).any()
+    geometry = scan_geometry(pose, INTRINSICS, 4.0, SCAN_DEFAULTS.robot_radius,
+                             SCAN_DEFAULTS.robot_height)
+    assert np.array_equal(geometry.robot, body) and not geometry.in_range[body].any()
+
+
+def test_the_robots_own_body_is_not_learned_as_floor():
+    """A low steep camera has the robot's light grey top in the floor model's reference area:
+    learned as floor, it made a box of that grey ahead floor too. Left out, the box is an
+    obstacle and the body itself is neither obstacle nor floor."""
+    pose = camera_pose_from_mount(LOW_STEEP_MOUNT)
+    rng = np.random.default_rng(0)
+    floor = np.clip(60.0 + rng.normal(0.0, 2.0, (HEIGHT, WIDTH, 3)), 0, 255).astype(np.uint8)
+    body = robot_pixels(pose, INTRINSICS, SCAN_DEFAULTS.robot_radius, SCAN_DEFAULTS.robot_height)
+    floor[body] = (130, 130, 130)
+    ahead = floor.copy()
+    ahead[60:120, 120:200] = (130, 130, 130)
+    box = np.zeros(body.shape, bool)
+    box[60:120, 120:200] = True
+    for radius_m, found in ((SCAN_DEFAULTS.robot_radius, True), (0.0, False)):
+        scanner = CameraScanner(robot_radius_m=radius_m)
+        scanner.scan(floor, pose, INTRINSICS)
+        result = scanner.scan(ahead, pose, INTRINSICS)
+        recall = (result.obstacles[box] > 0).mean()
+        assert (recall > 0.98) if found else (recall < 0.1)
+        assert not (result.obstacles[body] > 0).any()

@@ -45,7 +45,9 @@ class ObstacleScanNode:
     def __init__(self):
         self.config = read_params(PARAMS, rospy.get_param, rospy.logwarn)
         self.scanner = CameraScanner(FloorSettings.from_values(self.config),
-                                     self.config.max_range, self.config.exclude_can)
+                                     self.config.max_range, self.config.exclude_can,
+                                     robot_radius_m=self.config.robot_radius,
+                                     robot_height_m=self.config.robot_height)
         self.intrinsics = None
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.scanner_lock = threading.Lock()

@@ -30,7 +30,7 @@ import numpy as np
 
 from can_seeker.camera_geometry import CameraIntrinsics, CameraPose
 from can_seeker.frames import BASE_FRAME
-from can_seeker.params import Param
+from can_seeker.params import Param, defaults
 from can_seeker.vision.detector import Blob, RedCanDetector
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorClassifier, FloorSettings
 from can_seeker.vision.report import CanModel, rank_candidates
@@ -40,11 +40,18 @@ SCAN_PARAMS = (
           'are not reported; also caps the scan\'s range_max (m)', 0.1, 100.0),
     Param('scan_frame', BASE_FRAME.default, 'frame of the scan, on the floor with z up (REP-103); the '
           'camera pose is looked up in TF from it'),
+    Param('robot_radius', 0.165, 'radius of the robot body about the scan frame origin (m): '
+          'pixels whose ray meets the body\'s top (at ~robot_height) before the floor show the '
+          'robot itself, and are neither obstacle nor floor, nor taught to the floor model '
+          '(0 = the camera never sees the robot)', 0.0, 5.0),
+    Param('robot_height', 0.085, 'height of the top of the robot body above the floor (m), '
+          'for ~robot_radius', 0.0, 5.0),
     Param('exclude_can', False, 'leave the red can (the red blob image_converter reports as '
           'the most can-like, with the red stacked on it, its lid, base and band) out of the '
           'scan, for a consumer that does not know its target; can_stopper needs it in: it '
           'leaves out only the can it approaches, and avoids every other red object'),
 )
+SCAN_DEFAULTS = defaults(SCAN_PARAMS)
 CAN_MARGIN = 0.25
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
 width sideways, so a can's silver rims and white band are not obstacles either."""
@@ -68,7 +75,8 @@ class ScanGeometry:
     pixel's lower edge (NaN where the ray misses the floor or is beyond ``range_max``);
     ``edge_angle_rad`` (H x W+1) the angles at the pixels' left/right edges. Scan bins are
     ``angle_min + i * angle_increment`` (rad), ``bins`` of them. ``sky`` (H x W) marks the
-    pixels whose ray points at least HORIZON_MARGIN_RAD above the horizontal.
+    pixels whose ray points at least HORIZON_MARGIN_RAD above the horizontal; ``robot`` (H x W)
+    the pixels that show the robot's own body (see :func:`robot_pixels`), out of range.
     """
 
     range_m: np.ndarray
@@ -81,6 +89,7 @@ class ScanGeometry:
     range_min: float
     range_max: float
     sky: np.ndarray
+    robot: np.ndarray
 
     @property
     def angle_max(self) -> float:
@@ -103,9 +112,32 @@ def _floor_polar(pose: CameraPose, intrinsics: CameraIntrinsics, u, v):
     return np.hypot(x, y), np.arctan2(y, x)
 
 
-def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
-                  max_range_m: float) -> Optional[ScanGeometry]:
-    """The floor geometry of the image, or None when the camera sees no floor within range."""
+def robot_pixels(pose: CameraPose, intrinsics: CameraIntrinsics, radius_m: float,
+                 top_m: float) -> np.ndarray:
+    """H x W bool: the pixels whose ray (through the pixel's centre) meets the robot body's
+    top, a disc of ``radius_m`` about the scan frame's origin at ``top_m`` above the floor,
+    before it reaches the floor. A camera mounted low and pitched steeply sees its robot's
+    front there: what it shows is no obstacle and no floor (none from a camera not above the
+    top)."""
+    u, v = np.meshgrid(np.arange(intrinsics.width, dtype=np.float64),
+                       np.arange(intrinsics.height, dtype=np.float64))
+    if radius_m <= 0.0 or pose.height_m <= top_m:
+        return np.zeros(u.shape, bool)
+    rays = _rays(pose, intrinsics, u, v)
+    with np.errstate(divide='ignore', invalid='ignore'):
+        scale = np.where(rays[..., 2] < 0.0, (top_m - pose.height_m) / rays[..., 2], np.nan)
+    x = pose.position[0] + scale * rays[..., 0]
+    y = pose.position[1] + scale * rays[..., 1]
+    with np.errstate(invalid='ignore'):
+        return np.hypot(x, y) <= radius_m
+
+
+def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: float,
+                  robot_radius_m: float = 0.0,
+                  robot_height_m: float = 0.0) -> Optional[ScanGeometry]:
+    """The floor geometry of the image, or None when the camera sees no floor within range.
+    Pixels that show the robot's body (``robot_radius_m``, ``robot_height_m``: see
+    :func:`robot_pixels`) measure no floor."""
     if pose is None or intrinsics is None or pose.height_m <= 0.0:
         return None
     width, height = intrinsics.width, intrinsics.height
@@ -115,7 +147,8 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
     range_m, angle = _floor_polar(pose, intrinsics, u, v)
     edge_u, edge_v = np.meshgrid(np.arange(width + 1, dtype=np.float64) - 0.5, rows)
     edge_range, edge_angle = _floor_polar(pose, intrinsics, edge_u, edge_v)
-    in_range = np.isfinite(range_m) & (range_m <= max_range_m)
+    robot = robot_pixels(pose, intrinsics, robot_radius_m, robot_height_m)
+    in_range = np.isfinite(range_m) & (range_m <= max_range_m) & ~robot
     edge_in_range = np.isfinite(edge_range) & (edge_range <= max_range_m)
     if not in_range.any():
         return None
@@ -136,7 +169,7 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics,
                         np.where(edge_in_range, edge_angle, np.nan), in_range,
                         angle_min + increment / 2.0, increment, bins,
                         float(np.nanmin(range_m[in_range])),
-                        float(np.nanmax(range_m[in_range])), sky)
+                        float(np.nanmax(range_m[in_range])), sky, robot)
 
 
 HIDDEN = -2
@@ -287,9 +320,13 @@ class CameraScanner:
 
     def __init__(self, floor_settings: Optional[FloorSettings] = None, max_range_m: float = 4.0,
                  exclude_can: bool = False, can_detector: Optional[RedCanDetector] = None,
-                 can_model: Optional[CanModel] = None):
+                 can_model: Optional[CanModel] = None,
+                 robot_radius_m: float = SCAN_DEFAULTS.robot_radius,
+                 robot_height_m: float = SCAN_DEFAULTS.robot_height):
         self.floor = FloorClassifier(floor_settings)
         self.max_range_m = max_range_m
+        self.robot_radius_m = robot_radius_m
+        self.robot_height_m = robot_height_m
         self.exclude_can = exclude_can
         self.can_detector = can_detector if can_detector is not None else RedCanDetector()
         self.can_model = can_model if can_model is not None else CanModel()
@@ -302,14 +339,15 @@ class CameraScanner:
         key = None if pose is None or intrinsics is None else (
             tuple(pose.position), pose.rotation.tobytes(), intrinsics)
         if key != self._geometry_key:
-            self.geometry = None if key is None else scan_geometry(pose, intrinsics,
-                                                                   self.max_range_m)
+            self.geometry = None if key is None else scan_geometry(
+                pose, intrinsics, self.max_range_m, self.robot_radius_m, self.robot_height_m)
             self._geometry_key = key
         return self.geometry
 
     def scan(self, bgr: np.ndarray, pose: Optional[CameraPose],
              intrinsics: Optional[CameraIntrinsics]) -> CameraScan:
-        """Classify the frame and, with a known camera geometry of the same size, scan it."""
+        """Classify the frame and, with a known camera geometry of the same size, scan it.
+        The pixels that show the robot's body are neither obstacle nor floor."""
         box = None
         if self.exclude_can:
             # The can is the blob image_converter reports: the most can-like, not the largest.
@@ -318,8 +356,14 @@ class CameraScanner:
             if chosen is not None:
                 box = can_box(result.mask, result.candidates[chosen])
         can = None if box is None else can_region(bgr.shape, box)
-        obstacles = self.floor.classify(bgr, can)
         geometry = self.geometry_for(pose, intrinsics)
+        ignore = can
+        if (geometry is not None and geometry.robot.shape == bgr.shape[:2]
+                and geometry.robot.any()):
+            ignore = np.where(geometry.robot, 255, 0).astype(np.uint8)
+            if can is not None:
+                ignore |= can
+        obstacles = self.floor.classify(bgr, ignore)
         if geometry is None or geometry.range_m.shape != obstacles.shape:
             rows = lowest_obstacle_rows(obstacles, np.ones(obstacles.shape, bool), box)
             return CameraScan(obstacles, rows, None, can)
