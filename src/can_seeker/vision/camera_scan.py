@@ -332,6 +332,7 @@ class CameraScanner:
         self.can_model = can_model if can_model is not None else CanModel()
         self._geometry_key = None
         self.geometry = None
+        self._robot_mono8 = None
 
     def geometry_for(self, pose: Optional[CameraPose],
                      intrinsics: Optional[CameraIntrinsics]) -> Optional[ScanGeometry]:
@@ -341,6 +342,9 @@ class CameraScanner:
         if key != self._geometry_key:
             self.geometry = None if key is None else scan_geometry(
                 pose, intrinsics, self.max_range_m, self.robot_radius_m, self.robot_height_m)
+            self._robot_mono8 = (np.where(self.geometry.robot, 255, 0).astype(np.uint8)
+                                 if self.geometry is not None and self.geometry.robot.any()
+                                 else None)
             self._geometry_key = key
         return self.geometry
 
@@ -358,11 +362,9 @@ class CameraScanner:
         can = None if box is None else can_region(bgr.shape, box)
         geometry = self.geometry_for(pose, intrinsics)
         ignore = can
-        if (geometry is not None and geometry.robot.shape == bgr.shape[:2]
-                and geometry.robot.any()):
-            ignore = np.where(geometry.robot, 255, 0).astype(np.uint8)
-            if can is not None:
-                ignore |= can
+        robot = self._robot_mono8
+        if robot is not None and robot.shape == bgr.shape[:2]:
+            ignore = robot if can is None else robot | can
         obstacles = self.floor.classify(bgr, ignore)
         if geometry is None or geometry.range_m.shape != obstacles.shape:
             rows = lowest_obstacle_rows(obstacles, np.ones(obstacles.shape, bool), box)
