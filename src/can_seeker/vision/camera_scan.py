@@ -102,11 +102,13 @@ def _rays(pose: CameraPose, intrinsics: CameraIntrinsics, u, v) -> np.ndarray:
                      np.ones_like(u)), axis=-1) @ pose.rotation.T
 
 
-def _floor_polar(pose: CameraPose, intrinsics: CameraIntrinsics, u, v):
-    """(range, angle) arrays of the floor points under pixel coordinates (u, v) (px)."""
+def _floor_polar(pose: CameraPose, intrinsics: CameraIntrinsics, u, v, plane_height_m=0.0):
+    """(range, angle) arrays of the points where the rays through pixel coordinates (u, v)
+    (px) meet the floor, or the level plane ``plane_height_m`` above it (NaN: they do not)."""
     rays = _rays(pose, intrinsics, u, v)
     with np.errstate(divide='ignore', invalid='ignore'):
-        scale = np.where(rays[..., 2] < 0.0, -pose.height_m / rays[..., 2], np.nan)
+        scale = np.where(rays[..., 2] < 0.0, (plane_height_m - pose.height_m) / rays[..., 2],
+                         np.nan)
     x = pose.position[0] + scale * rays[..., 0]
     y = pose.position[1] + scale * rays[..., 1]
     return np.hypot(x, y), np.arctan2(y, x)
@@ -123,13 +125,8 @@ def robot_pixels(pose: CameraPose, intrinsics: CameraIntrinsics, radius_m: float
                        np.arange(intrinsics.height, dtype=np.float64))
     if radius_m <= 0.0 or pose.height_m <= top_m:
         return np.zeros(u.shape, bool)
-    rays = _rays(pose, intrinsics, u, v)
-    with np.errstate(divide='ignore', invalid='ignore'):
-        scale = np.where(rays[..., 2] < 0.0, (top_m - pose.height_m) / rays[..., 2], np.nan)
-    x = pose.position[0] + scale * rays[..., 0]
-    y = pose.position[1] + scale * rays[..., 1]
     with np.errstate(invalid='ignore'):
-        return np.hypot(x, y) <= radius_m
+        return _floor_polar(pose, intrinsics, u, v, top_m)[0] <= radius_m
 
 
 def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: float,
