@@ -774,3 +774,43 @@ def test_within_the_stop_tolerance_the_robot_faces_the_can_instead_of_a_stop_poi
             break
     assert controller.state is State.STOPPED
     assert abs(pose.yaw - bearing) <= math.radians(DEFAULTS['bearing_tolerance_deg'])
+
+
+
+def test_an_approach_held_back_with_no_way_around_known_turns_to_look_around():
+    """Just before the stop band, an obstacle shows up 0.24 m ahead on the straight line to
+    the can (a specular highlight on a glossy floor does), and the camera has observed only
+    the floor in front: no stop point beside the can and no path around is known. The robot
+    does not stand short of the can for ever: after STALL_S held back it turns a full turn,
+    saying why, so that its camera observes the floor around for a way around."""
+    controller = make_controller()
+    controller.set_camera_view(CAMERA_VIEW)
+    gap_m, yaw = 0.45, 0.0
+    rays = fan(-30.0, 30.0, 1.0)
+    clear = np.zeros(len(rays), bool)
+    start_s = 0.0
+    for x_m in np.arange(-1.0, 1e-9, 0.02):                   # the drive up to here
+        controller.observe_pose(Pose2D(float(x_m), 0.0, 0.0), start_s)
+        controller.observe_scan(controller.scan_sources[0], rays, clear, (0.0, 0.0), start_s)
+        controller.observe(Sighting(gap_m - float(x_m), 0.0), start_s)
+        controller.command(start_s)
+        start_s += 0.05
+    hits = np.abs(np.degrees(np.arctan2(rays[:, 1], rays[:, 0]))) <= 8.0
+    rays[hits] *= 0.24 / 1.0
+    turned_rad, commands = 0.0, []
+    for step in range(int(round(20.0 / 0.05))):
+        now = start_s + step * 0.05
+        controller.observe_pose(Pose2D(0.0, 0.0, yaw), now)
+        controller.observe_scan(controller.scan_sources[0], rays, hits, (0.0, 0.0), now)
+        controller.observe(Sighting(gap_m, -yaw), now)
+        linear, angular = controller.command(now)
+        commands.append((now, linear, angular, controller.why))
+        assert linear <= 0.0, (now, linear, controller.why)
+        yaw += angular * 0.05
+        turned_rad += abs(angular) * 0.05
+    standing = [why for now, _, _, why in commands if now < start_s + 5.0]
+    assert all(why.startswith('obstacle ahead') for why in standing[5:]), standing[-1]
+    looking = [(now - start_s, why) for now, _, angular, why in commands if angular != 0.0]
+    assert looking and looking[0][0] >= 6.0, looking[:1]
+    assert 'turning a full turn to observe the floor around' in looking[0][1]
+    assert turned_rad >= 2.0 * math.pi - 0.1
