@@ -1,9 +1,10 @@
-"""Shared by the can_stopper rostest nodes: feed CanDetection messages, record /cmd_vel."""
+"""Shared by the can_stopper rostest nodes: feed CanDetection messages, record /cmd_vel and the
+stamps of cmd_vel_stamped."""
 import threading
 import time
 
 import rospy
-from geometry_msgs.msg import Twist
+from geometry_msgs.msg import Twist, TwistStamped
 from std_msgs.msg import String
 
 from can_seeker.msg import CanDetection
@@ -31,15 +32,29 @@ class Harness:
     def __init__(self):
         self.lock = threading.Lock()
         self.commands = []
+        self.stamped = []
+        self.last_fed_stamp_s = None
         self.state = None
         self.detection_pub = rospy.Publisher('/image_converter/detection', CanDetection,
                                              queue_size=1)
         rospy.Subscriber('/cmd_vel', Twist, self.on_cmd_vel)
+        rospy.Subscriber('/cmd_vel_stamped', TwistStamped, self.on_cmd_vel_stamped)
         rospy.Subscriber('/can_stopper/state', String, self.on_state)
 
     def on_cmd_vel(self, message):
         with self.lock:
             self.commands.append((time.monotonic(), message.linear.x, message.angular.z))
+
+    def on_cmd_vel_stamped(self, message):
+        with self.lock:
+            self.stamped.append((message.header.stamp.to_sec(), message.twist.linear.x,
+                                 message.twist.angular.z))
+
+    def stamped_since(self, stamp_s):
+        """(stamp s, linear m/s, angular rad/s) of the stamped commands for times after
+        ``stamp_s`` (ROS time): when each was decided, whenever it arrived."""
+        with self.lock:
+            return [command for command in self.stamped if command[0] > stamp_s]
 
     def on_state(self, message):
         self.state = message.data
@@ -63,7 +78,9 @@ class Harness:
         end = time.monotonic() + duration_s
         last = None
         while time.monotonic() < end:
-            self.detection_pub.publish(detection(range_m, bearing_rad, confidence))
+            message = detection(range_m, bearing_rad, confidence)
+            self.detection_pub.publish(message)
+            self.last_fed_stamp_s = message.header.stamp.to_sec()
             last = time.monotonic()
             time.sleep(1.0 / rate_hz)
         return last
