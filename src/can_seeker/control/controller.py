@@ -728,7 +728,8 @@ class Controller:
         again without end. Held back by an obstacle for ``STALL_S`` with neither a stop point
         aside nor a path (an obstacle that showed up in the last stretch, the floor around
         unobserved), it turns a full turn to observe the floor around, then drives a path
-        around the obstacle when there is one."""
+        around the obstacle when there is one, until the stop band, where the direct law
+        stops it."""
         config = self.config
         if self.looked_rad is not None:
             if self.looked_rad < 2.0 * math.pi and self.can_navigate(now_s):
@@ -736,7 +737,8 @@ class Controller:
             self.looked_rad = None
             self.detour = True
         if (self.can_xy is not None and self.can_navigate(now_s)
-                and (self.detour or self.sighting.gap_m > DIRECT_GAP_M)
+                and (self.sighting.gap_m > DIRECT_GAP_M
+                     or (self.detour and self._errors()[0] > config.distance_tolerance))
                 and (self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
                                                           config.can_exclusion_radius)
                      or self._direct_law_held_back())):
