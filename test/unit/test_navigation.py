@@ -796,7 +796,7 @@ def test_an_approach_held_back_with_no_way_around_known_turns_to_look_around():
         controller.command(start_s)
         start_s += 0.05
     hits = np.abs(np.degrees(np.arctan2(rays[:, 1], rays[:, 0]))) <= 8.0
-    rays[hits] *= 0.24 / 1.0
+    rays[hits] *= 0.24                                       # of the 1 m rays
     turned_rad, commands = 0.0, []
     for step in range(int(round(20.0 / 0.05))):
         now = start_s + step * 0.05
