@@ -392,10 +392,6 @@ class Controller:
         self.path_xy: Optional[np.ndarray] = None
         self.progress: Optional[Tuple[int, float, float, Optional[np.ndarray]]] = None
         self.stop_aside: Optional[float] = None
-        self.held_since_s: Optional[float] = None
-        self.looked_rad: Optional[float] = None
-        self.look_sign = 1.0
-        self.detour = False
         self.backing: Optional[Tuple[float, float, float]] = None
 
     def observe(self, sighting: Optional[Sighting], now_s: float,
@@ -422,11 +418,9 @@ class Controller:
             self.turn_sign = math.copysign(1.0, sighting.bearing_rad)
         ranged = sighting is not None and sighting.has_range
         if (not ranged and self.state in (State.APPROACH, State.STOPPED)
-                and (self.can_below_view() or self.stop_aside is not None
-                     or self.looked_rad is not None or self.detour)):
+                and (self.can_below_view() or self.stop_aside is not None)):
             # The camera cannot range the can there, or the can left the view while the
-            # robot heads for a stop point aside, looks around or drives around an obstacle:
-            # go on with where it was ranged last.
+            # robot heads for a stop point aside: go on with where it was ranged last.
             self.sighting = self._sighting_now(self.can_xy, self.sighting.confidence
                                                if self.sighting is not None else 0.0)
             ranged = True
@@ -509,8 +503,6 @@ class Controller:
         previous = self.navigator.pose
         if previous is not None and self.state is State.SEARCH:
             self.searched_rad += abs(avoidance.wrap_angle(pose.yaw - previous.yaw))
-        if previous is not None and self.looked_rad is not None:
-            self.looked_rad += abs(avoidance.wrap_angle(pose.yaw - previous.yaw))
         self.navigator.pose = pose
         self.pose_s = now_s
         self.poses.add(now_s if stamp_s is None else stamp_s, pose)
@@ -725,27 +717,15 @@ class Controller:
         straight line when an obstacle holds that back: :meth:`_stop_aside_bearing`). Within
         ``distance_tolerance`` of the stop distance it only faces the can: a stop point aside,
         sought whenever the gap's estimate crossed half the tolerance, turned it away and back
-        again without end. Held back by an obstacle for ``STALL_S`` with neither a stop point
-        aside nor a path (an obstacle that showed up in the last stretch, the floor around
-        unobserved), it turns a full turn to observe the floor around, then drives a path
-        around the obstacle when there is one, until the stop band, where the direct law
-        stops it."""
-        config = self.config
-        if self.looked_rad is not None:
-            if self.looked_rad < 2.0 * math.pi and self.can_navigate(now_s):
-                return self._look_around()
-            self.looked_rad = None
-            self.detour = True
+        again without end."""
         if (self.can_xy is not None and self.can_navigate(now_s)
-                and (self.sighting.gap_m > DIRECT_GAP_M
-                     or (self.detour and self._errors()[0] > config.distance_tolerance))
+                and self.sighting.gap_m > DIRECT_GAP_M
                 and (self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
-                                                          config.can_exclusion_radius)
+                                                          self.config.can_exclusion_radius)
                      or self._direct_law_held_back())):
             command = self._follow_path(self.can_xy, now_s, self.can_xy)
             if command is not None:
                 return command
-        self.detour = False
         self.path_xy = None
         aside = None
         if (self.can_xy is not None and self.can_navigate(now_s)
@@ -753,38 +733,11 @@ class Controller:
                 and self._errors()[0] > self.config.distance_tolerance):
             aside = self._stop_aside_bearing()
         command = self._approach_law(aside)
-        if not self._held_back(command, now_s):
-            self.held_since_s = None
-        elif self.held_since_s is None:
-            self.held_since_s = now_s
-        elif elapsed_s(now_s, self.held_since_s) >= STALL_S:
-            self.held_since_s = None
-            self.looked_rad = 0.0
-            self.look_sign = self.turn_sign
-            return self._look_around()
         if command[0] == 0.0:
             self._because(self._direct_law_standing_reason() if aside is None else
                           'an obstacle holds the straight approach back: turning to a stop '
                           'point beside it, %.0f deg off' % math.degrees(aside))
         return command
-
-    def _look_around(self) -> Tuple[float, float]:
-        """The full turn in place of an approach held back with no way around known: the
-        camera observes the floor around, where a path around the obstacle may lie."""
-        self._because('an obstacle held the approach back for %.0f s and no path around it is '
-                      'known: turning a full turn to observe the floor around (%.0f deg of 360)'
-                      % (STALL_S, math.degrees(self.looked_rad)))
-        return 0.0, self.look_sign * self.config.search_angular
-
-    def _held_back(self, command: Tuple[float, float], now_s: float) -> bool:
-        """True when the safety layer stops this forward ``command`` of APPROACH short of the
-        can for an obstacle (not for unobserved floor, which turning or backing up shows)."""
-        if command[0] <= 0.0 or self.can_xy is None or not self.can_navigate(now_s):
-            return False
-        free_m, unknown_point = self.navigator.safety_block(
-            command, self.can_xy, self.config.can_exclusion_radius)
-        return unknown_point is None and avoidance.safe_linear(
-            command[0], free_m, self.config.max_linear_accel, SAFETY_RESERVE_M) == 0.0
 
     def _direct_law_standing_reason(self) -> str:
         """Why the direct law drives neither forward nor back: the gap is in the stop band, or
