@@ -33,7 +33,6 @@ class Harness:
         self.lock = threading.Lock()
         self.commands = []
         self.stamped = []
-        self.last_fed_stamp_s = None
         self.state = None
         self.detection_pub = rospy.Publisher('/image_converter/detection', CanDetection,
                                              queue_size=1)
@@ -74,13 +73,13 @@ class Harness:
         return False
 
     def feed(self, range_m, bearing_rad, duration_s, rate_hz=15.0, confidence=1.0):
-        """Publish the same detection for ``duration_s``; return when the last one was sent."""
+        """Publish the same detection for ``duration_s``; return the stamp (s, ROS time) of the
+        last one sent."""
         end = time.monotonic() + duration_s
-        last = None
+        last_stamp_s = None
         while time.monotonic() < end:
             message = detection(range_m, bearing_rad, confidence)
             self.detection_pub.publish(message)
-            self.last_fed_stamp_s = message.header.stamp.to_sec()
-            last = time.monotonic()
+            last_stamp_s = message.header.stamp.to_sec()
             time.sleep(1.0 / rate_hz)
-        return last
+        return last_stamp_s
