@@ -8,12 +8,12 @@ import pybullet
 import pytest
 
 from can_seeker.camera_geometry import (camera_pose_from_mount, floor_point,
-                                        intrinsics_from_vertical_fov)
+                                        intrinsics_from_vertical_fov, project_floor_points)
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.world import CameraSpec, World
-from can_seeker.vision.camera_scan import (SCAN_DEFAULTS, CameraScanner, draw_obstacles,
-                                           lowest_obstacle_rows, robot_pixels, scan_geometry,
-                                           scan_ranges)
+from can_seeker.vision.camera_scan import (FREE_SPAN_TOLERANCE_M, SCAN_DEFAULTS, CameraScanner,
+                                           draw_obstacles, lowest_obstacle_rows, robot_pixels,
+                                           scan_geometry, scan_ranges)
 from can_seeker.vision.floor import FloorSettings
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
@@ -35,7 +35,7 @@ def test_geometry_spans_the_view_and_the_visible_floor():
     assert geometry.bins == pytest.approx(WIDTH, abs=3)
     bottom = floor_point(POSE, INTRINSICS, INTRINSICS.cx, HEIGHT - 0.5)
     assert geometry.range_min == pytest.approx(math.hypot(*bottom), abs=1e-6)
-    assert 3.9 < geometry.range_max <= 4.0
+    assert 3.8 < geometry.range_max <= 4.0
     assert scan_geometry(POSE, INTRINSICS, 0.1) is None
     level = camera_pose_from_mount(CameraMount(0.25, -30.0))
     assert scan_geometry(level, INTRINSICS, 4.0) is None
@@ -66,9 +66,11 @@ def test_bottom_row_obstacle_is_at_most_the_nearest_floor_and_far_ones_are_cut()
     obstacles[:10, 200:] = 255           # beyond 2 m
     ranges = scan_ranges(geometry, lowest_obstacle_rows(obstacles, geometry.in_range))
     left, right = ranges[bin_angles(geometry) > 0.1], ranges[bin_angles(geometry) < -0.1]
-    assert np.all(np.isinf(right))     # image columns >= 200: only obstacles beyond 2 m
-    assert np.min(left) >= geometry.range_min - 1e-6
-    assert np.min(left) < geometry.range_min + 0.1
+    # image columns >= 200: only obstacles beyond 2 m
+    assert np.all(np.isinf(right[geometry.free_bins[bin_angles(geometry) < -0.1]]))
+    assert np.all(np.isnan(right[~geometry.free_bins[bin_angles(geometry) < -0.1]]))
+    assert np.nanmin(left) >= geometry.range_min - 1e-6
+    assert np.nanmin(left) < geometry.range_min + 0.1
 
 
 def test_a_column_taken_for_floor_up_past_the_horizon_measures_nothing():
@@ -92,12 +94,83 @@ def test_a_column_taken_for_floor_up_past_the_horizon_measures_nothing():
     angles = bin_angles(geometry)
     wall = angles > math.atan2(WIDTH / 2 - 95, INTRINSICS.fx)
     unjudged = angles < math.atan2(WIDTH / 2 - 145, INTRINSICS.fx)
-    assert np.all(np.isinf(ranges[wall]))
+    assert np.all(np.isinf(ranges[wall & geometry.free_bins]))
     assert np.all(np.isnan(ranges[unjudged]))
     assert np.isfinite(ranges).sum() == pytest.approx(40, abs=3)
     # without the horizon, floor up to the top of the image reads as free floor
     assert not np.isnan(scan_ranges(geometry, lowest_obstacle_rows(
-        obstacles, geometry.in_range))).any()
+        obstacles, geometry.in_range))[geometry.free_bins]).any()
+
+
+
+@pytest.mark.parametrize('height_m,pitch_deg', [
+    (0.25, 25.0), (0.32, 30.0), (0.15, 15.0), (0.15, 35.0), (0.35, 15.0), (0.35, 35.0)])
+def test_free_rays_lie_in_the_image_from_range_min_to_range_max(height_m, pitch_deg):
+    """A ray read +inf says the floor along it is free from range_min to range_max: every
+    point of it must be in the image. The image's floor is a trapezoid seen from ahead of
+    base_link, so near the scan's sides a ray leaves the image long before the range the
+    corners reach (a camera 0.32 m up pitched 30 deg sees 0.4 m along its outermost rays,
+    not the 2.8 m of its top corners); those rays are NaN."""
+    pose = camera_pose_from_mount(CameraMount(height_m, pitch_deg))
+    geometry = scan_geometry(pose, INTRINSICS, 4.0)
+    ranges = scan_ranges(geometry, np.full(WIDTH, -1))
+    free = np.isinf(ranges)
+    assert free.sum() > 0.75 * geometry.bins
+    assert np.all(np.isnan(ranges[~free]))
+    tolerance = FREE_SPAN_TOLERANCE_M + 0.01
+    along = np.arange(geometry.range_min + tolerance, geometry.range_max - tolerance, 0.01)
+    angles = bin_angles(geometry)[free]
+    assert_in_image(pose, angles, along[None, :].repeat(angles.size, axis=0))
+    # A range says the floor before it is free too: a wall across the image at row 150.
+    obstacles = np.zeros((HEIGHT, WIDTH), np.uint8)
+    obstacles[:151] = 255
+    ranges = scan_ranges(geometry, lowest_obstacle_rows(obstacles, geometry.in_range))
+    hit = np.isfinite(ranges)
+    assert hit.sum() > 0.75 * geometry.bins
+    hit &= ranges > geometry.range_min + 2 * tolerance
+    fractions = np.linspace(0.0, 1.0, 50)
+    along = geometry.range_min + tolerance + np.outer(ranges[hit] - 2 * tolerance
+                                                      - geometry.range_min, fractions)
+    assert_in_image(pose, bin_angles(geometry)[hit], along)
+
+
+def assert_in_image(pose, angles, along):
+    """Floor points at ``along`` (rows per angle, m) on rays at ``angles`` (rad) from base_link
+    all lie in the image."""
+    points = np.stack((np.cos(angles)[:, None] * along, np.sin(angles)[:, None] * along,
+                       np.zeros(along.shape)), axis=-1).reshape(-1, 3)
+    u, v = project_floor_points(pose, INTRINSICS, points).T
+    assert u.size == points.shape[0]
+    assert np.all((u >= -0.5) & (u <= WIDTH - 0.5) & (v >= -0.5) & (v <= HEIGHT - 0.5))
+
+
+@pytest.mark.parametrize('bearing_rad', [0.52, 0.56])
+def test_an_obstacle_beside_the_view_is_not_scanned_as_free_floor(bearing_rad):
+    """A low box at the image's left edge, 2.2 m off, from a camera 0.32 m up pitched 30 deg:
+    its corner shows in the outermost 4 columns (a sliver the floor model drops), or it is
+    just beyond the edge. No ray reads +inf through it: base_link's outermost rays run through
+    it, outside the image or in that sliver."""
+    mount = CameraMount(0.32, 30.0)
+    pose = camera_pose_from_mount(mount)
+    with World(URDF, CameraSpec(WIDTH, HEIGHT, 45.0, mount)) as world:
+        client = world._client
+        centre = 2.2 * np.array((math.cos(bearing_rad), math.sin(bearing_rad)))
+        shape = client.createVisualShape(pybullet.GEOM_BOX, halfExtents=(0.15, 0.15, 0.08),
+                                         rgbaColor=(0.12, 0.12, 0.14, 1))
+        client.createMultiBody(0, -1, shape, (centre[0], centre[1], 0.08),
+                               pybullet.getQuaternionFromEuler((0.0, 0.0, bearing_rad)))
+        world.place_can(8.0, 8.0)
+        scanner = CameraScanner()
+        ranges = scanner.scan(world.render(), pose, INTRINSICS).ranges
+    geometry = scanner.geometry
+    along = np.arange(geometry.range_min, geometry.range_max, 0.01)
+    angles = bin_angles(geometry)
+    points = np.stack((np.cos(angles), np.sin(angles)), axis=-1)[:, None, :] * along[None, :, None]
+    local = (points - centre) @ np.array(((math.cos(bearing_rad), -math.sin(bearing_rad)),
+                                          (math.sin(bearing_rad), math.cos(bearing_rad))))
+    through_box = np.any(np.all(np.abs(local) <= 0.15, axis=-1), axis=1)
+    assert through_box.any()
+    assert not np.any(np.isinf(ranges[through_box]))
 
 
 # Rendered scenes: boxes (centre x, y, half sizes x, y, height) and cylinders (x, y, radius,
@@ -171,7 +244,7 @@ def test_rendered_scan_matches_the_obstacle_geometry(room, floor, obstacle):
     # pitched camera's view of a tall obstacle leans past its footprint) are +inf.
     free = np.convolve(np.isfinite(truth), np.ones(27), 'same') == 0
     assert free.sum() > 15
-    assert np.all(np.isinf(result.ranges[free]))
+    assert np.all(np.isinf(result.ranges[free & scanner.geometry.free_bins]))
     annotated = draw_obstacles(image, result, scanner.floor.reference_corners)
     assert annotated.shape == image.shape and np.any(annotated != image)
 
@@ -211,7 +284,8 @@ def test_nothing_in_view_is_free_everywhere(room):
         image = world.render()
         world.reset_robot()
         ranges = scanner.scan(image, turned, INTRINSICS).ranges
-        assert np.all(np.isinf(ranges)), floor_model
+        assert np.all(np.isinf(ranges[scanner.geometry.free_bins])), floor_model
+        assert np.all(np.isnan(ranges[~scanner.geometry.free_bins])), floor_model
     world.place_can(8.0, 8.0)
 
 
@@ -232,9 +306,10 @@ def banded_can_scene(width=WIDTH, height=HEIGHT):
 
 def test_banded_can_with_rims_is_not_an_obstacle():
     image = banded_can_scene()
-    excluded = CameraScanner(exclude_can=True).scan(image, POSE, INTRINSICS)
+    scanner = CameraScanner(exclude_can=True)
+    excluded = scanner.scan(image, POSE, INTRINSICS)
     assert not excluded.obstacles.any()
-    assert np.all(np.isinf(excluded.ranges))
+    assert np.all(np.isinf(excluded.ranges[scanner.geometry.free_bins]))
     included = CameraScanner(exclude_can=False).scan(image, POSE, INTRINSICS)
     assert included.obstacle_rows[155] == 150
 
@@ -257,7 +332,7 @@ def test_floor_hidden_behind_the_can_is_not_measured():
     clear = banded_can_scene()
     clear[40:80, :] = (40, 40, 40)                      # floor seen between can and wall
     ranges = CameraScanner(exclude_can=True).scan(clear, POSE, INTRINSICS).ranges
-    assert not np.isnan(ranges).any() and np.isfinite(ranges[hidden]).all()
+    assert not np.isnan(ranges[geometry.free_bins]).any() and np.isfinite(ranges[hidden]).all()
 
 
 def test_rendered_textured_can_is_never_an_obstacle():
@@ -271,7 +346,8 @@ def test_rendered_textured_can_is_never_an_obstacle():
                 world.place_can(distance * math.cos(bearing), distance * math.sin(bearing))
                 ranges = scanner.scan(world.render(), POSE, INTRINSICS).ranges
                 assert not np.isfinite(ranges).any(), (distance, bearing)
-                assert np.isnan(ranges).any() == (distance > 2.0), (distance, bearing)
+                behind = np.isnan(ranges[scanner.geometry.free_bins]).any()
+                assert behind == (distance > 2.0), (distance, bearing)
 
 
 def test_the_excluded_can_is_the_most_can_like_red_blob_not_the_largest():

@@ -9,9 +9,21 @@ bin keeping its nearest point, as depthimage_to_laserscan does for depth images.
 Conventions (REP-117): ranges are horizontal distances (m) from the scan frame's origin to
 the obstacle's base; +inf where the camera sees floor up to the scan's range_max (nothing in
 view); angles span the camera's view as seen from that origin, increasing to the left
-(REP-103). range_max is the farthest floor distance in view (capped by ``max_range``);
-range_min the nearest. An obstacle already at the image's bottom edge is reported at the
-bottom row's floor distance: it is at most that far. The target can is no obstacle; where it
+(REP-103). range_min is the nearest floor distance in view. An obstacle already at the
+image's bottom edge is reported at the bottom row's floor distance: it is at most that far.
+
+A scan says more than any one ray: +inf claims the floor free along the ray from range_min to
+range_max. But the image's floor is a trapezoid seen from a camera ahead of the scan frame's
+origin, not a wedge about that origin: a ray near the scan's sides runs through the image's
+floor only for part of that span (a camera pitched down sees the floor beside its view only
+near it, one pitched up only far off), and the rest of it is floor nobody saw. So range_max is
+the range the most floor is vouched for at (capped by ``max_range``), and a ray without an
+obstacle reads +inf only where the image holds the floor along it from range_min to range_max
+(within :data:`FREE_SPAN_TOLERANCE_M`); elsewhere NaN (not measured). Only the image's
+inner part counts for that: an obstacle cut by the image's side or top edge shows a sliver
+there, which the floor model drops as noise (:func:`border_px`). A range says the floor
+before it is free too: an obstacle is reported only along a ray the image holds from
+range_min on (else NaN); one beyond range_max reads as no obstacle there. The target can is no obstacle; where it
 hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
 
 No floor lies above the horizon. A column with no obstacle in range whose pixels above the
@@ -21,6 +33,7 @@ of the floor's colour, standing anywhere along it: that column measures nothing 
 so the floor along it is never vouched for as free. Only a camera that sees the horizon can
 tell.
 """
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Optional
@@ -58,6 +71,10 @@ width sideways, so a can's silver rims and white band are not obstacles either."
 HORIZON_MARGIN_RAD = math.radians(0.5)
 """Pixels whose ray points this far above the horizontal or more see no floor: at 0.5 deg below
 it, the floor lies 34 m from a camera 0.3 m up, farther than any room's wall."""
+FREE_SPAN_TOLERANCE_M = 0.05
+"""How much of a ray's span from range_min to range_max the image may miss at either end while
+the ray still reads +inf: about a pixel's floor footprint far off, and half the finest map
+cell a consumer keeps (can_stopper's observed floor)."""
 MIN_SKY_FLOOR_PX = 3
 """Pixels above the horizon taken for floor that make a column unjudged: a few (one or two at
 a wall's top edge may be blur), right above the floor the column shows (a wall of the floor's
@@ -77,6 +94,9 @@ class ScanGeometry:
     ``angle_min + i * angle_increment`` (rad), ``bins`` of them. ``sky`` (H x W) marks the
     pixels whose ray points at least HORIZON_MARGIN_RAD above the horizontal; ``robot`` (H x W)
     the pixels that show the robot's own body (see :func:`robot_pixels`), out of range.
+    ``near_bins`` (bins) marks the bins whose floor the image holds from ``range_min`` on,
+    ``free_bins`` those where it holds it up to ``range_max`` too (see the module docstring and
+    :func:`vouched_span`).
     """
 
     range_m: np.ndarray
@@ -90,6 +110,8 @@ class ScanGeometry:
     range_max: float
     sky: np.ndarray
     robot: np.ndarray
+    near_bins: np.ndarray
+    free_bins: np.ndarray
 
     @property
     def angle_max(self) -> float:
@@ -129,12 +151,21 @@ def robot_pixels(pose: CameraPose, intrinsics: CameraIntrinsics, radius_m: float
         return _floor_polar(pose, intrinsics, u, v, top_m)[0] <= radius_m
 
 
+def border_px(settings: FloorSettings, width: int, height: int) -> int:
+    """How many pixels from the image's side and top edges cannot show floor free: an
+    obstacle cut by the edge shows only a sliver, which the floor model drops when narrower
+    than the regions it keeps (its 3 px opening, and the side of a square of
+    ``min_obstacle_area``)."""
+    return max(3, int(math.ceil(math.sqrt(settings.min_obstacle_area * width * height))))
+
+
 def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: float,
-                  robot_radius_m: float = 0.0,
-                  robot_height_m: float = 0.0) -> Optional[ScanGeometry]:
+                  robot_radius_m: float = 0.0, robot_height_m: float = 0.0,
+                  border: int = 0) -> Optional[ScanGeometry]:
     """The floor geometry of the image, or None when the camera sees no floor within range.
     Pixels that show the robot's body (``robot_radius_m``, ``robot_height_m``: see
-    :func:`robot_pixels`) measure no floor."""
+    :func:`robot_pixels`) measure no floor; those within ``border`` px of the image's side or
+    top edge (see :func:`border_px`) vouch for no free floor."""
     if pose is None or intrinsics is None or pose.height_m <= 0.0:
         return None
     width, height = intrinsics.width, intrinsics.height
@@ -162,11 +193,51 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: f
     centre_rays = _rays(pose, intrinsics, u, v - 0.5)
     sky = (centre_rays[..., 2] / np.linalg.norm(centre_rays, axis=-1)
            >= math.sin(HORIZON_MARGIN_RAD))
-    return ScanGeometry(np.where(in_range, range_m, np.nan), np.where(in_range, angle, np.nan),
-                        np.where(edge_in_range, edge_angle, np.nan), in_range,
-                        angle_min + increment / 2.0, increment, bins,
-                        float(np.nanmin(range_m[in_range])),
-                        float(np.nanmax(range_m[in_range])), sky, robot)
+    geometry = ScanGeometry(np.where(in_range, range_m, np.nan),
+                            np.where(in_range, angle, np.nan),
+                            np.where(edge_in_range, edge_angle, np.nan), in_range,
+                            angle_min + increment / 2.0, increment, bins,
+                            float(np.nanmin(range_m[in_range])),
+                            float(np.nanmax(range_m[in_range])), sky, robot,
+                            np.ones(bins, bool), np.ones(bins, bool))
+    inner = np.zeros(in_range.shape, bool)
+    inner[border:, border:width - border] = True
+    near_m, far_m = bin_floor_spans(geometry, inner)
+    with np.errstate(invalid='ignore'):
+        near_bins = near_m <= geometry.range_min + FREE_SPAN_TOLERANCE_M
+    range_max, free_bins = vouched_span(near_bins, far_m, geometry.range_min)
+    return dataclasses.replace(geometry, range_max=range_max, near_bins=near_bins,
+                               free_bins=free_bins)
+
+
+def bin_floor_spans(geometry: ScanGeometry, pixels: np.ndarray):
+    """(near m, far m) per bin: the nearest and farthest range of the floor in range that the
+    ``pixels`` (H x W bool) cover along the bin (each pixel covers the bins between its edges'
+    angles, as an obstacle base does in :func:`scan_ranges`); NaN for a bin none covers."""
+    rows, columns = np.nonzero(geometry.in_range & pixels)
+    first, last, valid = _column_bins(geometry, rows, columns)
+    bins, owners = _spread(first, last)
+    ranges = geometry.range_m[rows, columns][valid][owners]
+    near = np.full(geometry.bins, np.inf)
+    far = np.full(geometry.bins, -np.inf)
+    np.minimum.at(near, bins, ranges)
+    np.maximum.at(far, bins, ranges)
+    covered = np.isfinite(near)
+    return np.where(covered, near, np.nan), np.where(covered, far, np.nan)
+
+
+def vouched_span(near_ok: np.ndarray, far_m: np.ndarray, range_min_m: float):
+    """(range_max m, free bins) of a scan whose bins see the floor up to ``far_m`` each, from
+    range_min where ``near_ok``: the range_max that vouches for the most floor area, counting
+    those bins that see up to it within :data:`FREE_SPAN_TOLERANCE_M`, and those bins."""
+    with np.errstate(invalid='ignore'):
+        candidates = np.unique(far_m[near_ok & (far_m > range_min_m)])
+        if candidates.size == 0:
+            return float(np.nanmax(far_m)), np.zeros(far_m.shape, bool)
+        reaching = far_m[None, :] >= candidates[:, None] - FREE_SPAN_TOLERANCE_M
+        counts = np.count_nonzero(reaching & near_ok[None, :], axis=1)
+    best = int(np.argmax(counts * (candidates ** 2 - range_min_m ** 2)))
+    return float(candidates[best]), reaching[best] & near_ok
 
 
 HIDDEN = -2
@@ -242,9 +313,11 @@ def _spread(first, last):
 
 def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray,
                 can_bottom_row: int = -1) -> np.ndarray:
-    """LaserScan ranges (m, float32) from per-column obstacle rows: +inf = no obstacle in view,
-    NaN = hidden behind the can (HIDDEN columns, seen at ``can_bottom_row``) or UNJUDGED (all
-    the bins their floor in range spans), and nothing else seen in that direction.
+    """LaserScan ranges (m, float32) from per-column obstacle rows: +inf = no obstacle in view
+    up to range_max, NaN = hidden behind the can (HIDDEN columns, seen at ``can_bottom_row``)
+    or UNJUDGED (all the bins their floor in range spans), or a bin whose floor the image does
+    not hold from range_min to range_max, and nothing else seen in that direction within
+    range_max; NaN also where the image does not hold the floor from range_min on.
 
     Each column's base point covers the bins between the angles of its left and right pixel
     edges (at least the bin of its centre), so a wall gives a scan without gaps.
@@ -268,7 +341,9 @@ def scan_ranges(geometry: ScanGeometry, obstacle_rows: np.ndarray,
         first, last, valid = _column_bins(geometry, rows, columns)
         bins, owners = _spread(first, last)
         np.minimum.at(ranges, bins, geometry.range_m[rows, columns][valid][owners])
-    ranges[unmeasured & np.isinf(ranges)] = np.nan
+    ranges[ranges > geometry.range_max] = np.inf
+    ranges[~geometry.near_bins] = np.nan
+    ranges[(unmeasured | ~geometry.free_bins) & np.isinf(ranges)] = np.nan
     return ranges.astype(np.float32)
 
 
@@ -338,7 +413,8 @@ class CameraScanner:
             tuple(pose.position), pose.rotation.tobytes(), intrinsics)
         if key != self._geometry_key:
             self.geometry = None if key is None else scan_geometry(
-                pose, intrinsics, self.max_range_m, self.robot_radius_m, self.robot_height_m)
+                pose, intrinsics, self.max_range_m, self.robot_radius_m, self.robot_height_m,
+                border_px(self.floor.settings, intrinsics.width, intrinsics.height))
             self._robot_mono8 = (np.where(self.geometry.robot, 255, 0).astype(np.uint8)
                                  if self.geometry is not None and self.geometry.robot.any()
                                  else None)
