@@ -23,8 +23,10 @@ obstacle reads +inf only where the image holds the floor along it from range_min
 inner part counts for that: an obstacle cut by the image's side or top edge shows a sliver
 there, which the floor model drops as noise (:func:`border_px`). A range says the floor
 before it is free too: an obstacle is reported only along a ray the image holds from
-range_min on (else NaN); one beyond range_max reads as no obstacle there. The target can is no obstacle; where it
-hides the floor right behind it and nothing nearer is seen, the range is NaN (not measured).
+range_min on (else NaN); one beyond range_max reads as no obstacle there.
+
+The target can is no obstacle; where it hides the floor right behind it and nothing nearer is
+seen, the range is NaN (not measured).
 
 No floor lies above the horizon. A column with no obstacle in range whose pixels above the
 horizon (by :data:`HORIZON_MARGIN_RAD`) the floor model takes for floor (see
@@ -206,8 +208,8 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: f
     with np.errstate(invalid='ignore'):
         near_bins = near_m <= geometry.range_min + FREE_SPAN_TOLERANCE_M
     range_max, free_bins = vouched_span(near_bins, far_m, geometry.range_min)
-    return dataclasses.replace(geometry, range_max=range_max, near_bins=near_bins,
-                               free_bins=free_bins)
+    return dataclasses.replace(geometry, range_max=range_max or geometry.range_max,
+                               near_bins=near_bins, free_bins=free_bins)
 
 
 def bin_floor_spans(geometry: ScanGeometry, pixels: np.ndarray):
@@ -229,11 +231,12 @@ def bin_floor_spans(geometry: ScanGeometry, pixels: np.ndarray):
 def vouched_span(near_ok: np.ndarray, far_m: np.ndarray, range_min_m: float):
     """(range_max m, free bins) of a scan whose bins see the floor up to ``far_m`` each, from
     range_min where ``near_ok``: the range_max that vouches for the most floor area, counting
-    those bins that see up to it within :data:`FREE_SPAN_TOLERANCE_M`, and those bins."""
+    those bins that see up to it within :data:`FREE_SPAN_TOLERANCE_M`, and those bins
+    ((None, none) when no bin sees beyond range_min from there)."""
     with np.errstate(invalid='ignore'):
         candidates = np.unique(far_m[near_ok & (far_m > range_min_m)])
         if candidates.size == 0:
-            return float(np.nanmax(far_m)), np.zeros(far_m.shape, bool)
+            return None, np.zeros(far_m.shape, bool)
         reaching = far_m[None, :] >= candidates[:, None] - FREE_SPAN_TOLERANCE_M
         counts = np.count_nonzero(reaching & near_ok[None, :], axis=1)
     best = int(np.argmax(counts * (candidates ** 2 - range_min_m ** 2)))
