@@ -523,6 +523,27 @@ def test_the_safety_layer_forgets_a_phantom_that_scans_keep_in_their_blind_zone(
     assert navigator.grid.occupied()[navigator.grid.cell_of(0.5, 0.0)]   # still on the map
 
 
+
+def test_an_obstacle_cut_by_the_image_bottom_keeps_what_is_remembered_nearer():
+    """A box 0.22 m ahead fills the bottom of a camera's image: its scan reports it at its
+    range_min (0.35 m), where it is at most. The box's cells nearer than that, remembered from
+    earlier, stay while the scan keeps reporting it there (they are no phantom: something is
+    seen at the edge of the blind zone); once that ray shows free floor, they are dropped after
+    the memory time as before."""
+    navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, memory_s=10.0)
+    navigator.pose = Pose2D(0.0, 0.0, 0.0)
+    navigator.add_scan(np.array([[0.22, 0.0]]), np.array([True]), (0.0, 0.0), navigator.pose,
+                       stamp_s=0.0)
+    at_edge = np.array([[0.35, 0.0]])
+    for stamp_s in range(1, 31):
+        navigator.add_scan(at_edge, np.array([True]), (0.0, 0.0), navigator.pose,
+                           range_min_m=0.35, stamp_s=float(stamp_s))
+    assert navigator.free_travel_m((0.1, 0.0), unknown=False) < 0.01
+    for stamp_s in range(31, 43):
+        navigator.add_scan(np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0),
+                           navigator.pose, range_min_m=0.35, stamp_s=float(stamp_s))
+    assert navigator.free_travel_m((0.1, 0.0), unknown=False) > 0.1
+
 def test_a_remembered_obstacle_is_kept_where_it_was_hit_not_at_its_cell_centre():
     navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
     navigator.pose = Pose2D(0.0, 0.0, math.pi / 2.0)

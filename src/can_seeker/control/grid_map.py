@@ -10,7 +10,10 @@ Two layers over the same square cells:
   cell also counts how long scans have had it in their blind zone (nearer than range_min to
   the sensor, along a ray or beside the view) since one last hit it: there no ray can confirm
   or clear it, and no turn of the robot brings it into view, so a phantom there can be told
-  apart only by that time;
+  apart only by that time. A scan that reports an obstacle right at its range_min (a camera
+  whose image's bottom edge cuts an obstacle: it is at most that far) keeps the remembered
+  obstacle cells along that ray nearer than range_min: it still sees something there, so they
+  are no phantom to drop;
 - coverage: the floor the camera has looked at, up to the range at which it would have found
   the can, stopping at obstacles. Exploration drives to where it has not looked yet;
 - observed, on cells of half the size: the floor some scan ray has reached (free or hit), the
@@ -37,6 +40,9 @@ HIT_EVIDENCE = 4
 MISS_EVIDENCE = 1
 EVIDENCE_LIMIT = 12
 OBSERVED_SUBDIVISION = 2
+BLIND_EDGE_M = 0.01
+"""A return this near to a scan's range_min or nearer lies at the edge of its blind zone (see
+:meth:`GridMap.add_scan`)."""
 """Observed floor is kept on cells this many times finer than the obstacle grid's."""
 OBSTACLE_REACH_M = 0.3
 """Unknown floor this near a remembered obstacle cell is never taken for floor by waiting: a
@@ -108,7 +114,9 @@ class GridMap:
         for). Nearer than ``clear_from_m`` the sensor is blind: what is remembered there stays,
         and the time since the same sensor's previous scan is added to the blind time and the
         blind-disc time of every cell within ``clear_from_m`` (at any bearing) and to the blind
-        time of the cells along the rays there."""
+        time of the cells along the rays there, except the obstacle cells along a ray whose hit
+        lies within :data:`BLIND_EDGE_M` of ``clear_from_m``: the obstacle seen at the edge of
+        the blind zone may reach into it, so their blind time starts again."""
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
         previous_s = self.scan_s.get(source)
         elapsed = 0.0 if previous_s is None else elapsed_s(stamp_s, previous_s)
@@ -136,7 +144,10 @@ class GridMap:
         along = fractions[None, :] <= free_lengths[:, None]
         beyond_blind = fractions[None, :] >= clear_from_m
         free = self._cells(points[along & beyond_blind])
-        blind = self._cells(points[(fractions[None, :] <= lengths[:, None]) & ~beyond_blind])
+        within_blind = (fractions[None, :] <= lengths[:, None]) & ~beyond_blind
+        blind = self._cells(points[within_blind])
+        at_edge = np.asarray(hits, bool) & (lengths <= clear_from_m + BLIND_EDGE_M)
+        kept = self._cells(points[within_blind & at_edge[:, None]]) & (self.evidence > 0)
         if disc_window is not None:
             blind[disc_window[0]] |= disc_window[1]
         hits = np.asarray(hits, bool)
@@ -155,6 +166,7 @@ class GridMap:
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
         self.blind_s[hit] = 0.0
         self.blind_s[blind] += max(0.0, elapsed)
+        self.blind_s[kept] = 0.0
 
     def _observe_rays(self, origin: np.ndarray, directions: np.ndarray, lengths: np.ndarray,
                       hits: np.ndarray, clear_from_m: float) -> None:
