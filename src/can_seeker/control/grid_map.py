@@ -147,7 +147,8 @@ class GridMap:
         within_blind = (fractions[None, :] <= lengths[:, None]) & ~beyond_blind
         blind = self._cells(points[within_blind])
         at_edge = np.asarray(hits, bool) & (lengths <= clear_from_m + BLIND_EDGE_M)
-        kept = self._cells(points[within_blind & at_edge[:, None]]) & (self.evidence > 0)
+        kept = (self._cells(points[within_blind & at_edge[:, None]]) & (self.evidence > 0)
+                if at_edge.any() else None)
         if disc_window is not None:
             blind[disc_window[0]] |= disc_window[1]
         hits = np.asarray(hits, bool)
@@ -166,7 +167,8 @@ class GridMap:
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
         self.blind_s[hit] = 0.0
         self.blind_s[blind] += max(0.0, elapsed)
-        self.blind_s[kept] = 0.0
+        if kept is not None:
+            self.blind_s[kept] = 0.0
 
     def _observe_rays(self, origin: np.ndarray, directions: np.ndarray, lengths: np.ndarray,
                       hits: np.ndarray, clear_from_m: float) -> None:
