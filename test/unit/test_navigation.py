@@ -153,6 +153,21 @@ def test_no_frontier_when_everything_reachable_was_seen():
     assert planner.frontier_goal(distance, seen, blocked, (10, 10), 0.0, 0.1, 0.3, 6) is None
 
 
+def test_steering_to_a_point_keeps_most_of_the_cruise_on_small_corrections():
+    """A lookahead point a few degrees off costs little speed; none past the turn-in-place
+    bearing, where the robot only turns (toward the point)."""
+    limit = math.radians(25.0)
+    ahead = avoidance.steer_to_point((1.0, 0.0), 0.3, limit, 2.0)
+    assert ahead == (0.3, 0.0)
+    linear, angular = avoidance.steer_to_point((math.cos(0.5 * limit), math.sin(0.5 * limit)),
+                                               0.3, limit, 2.0)
+    assert linear == pytest.approx(0.225)
+    assert angular == pytest.approx(2.0 * 0.5 * limit)
+    linear, angular = avoidance.steer_to_point((math.cos(-1.2 * limit), math.sin(-1.2 * limit)),
+                                               0.3, limit, 2.0)
+    assert linear == 0.0 and angular < 0.0
+
+
 # Safety --------------------------------------------------------------------------------------
 
 def test_free_travel_straight_and_on_an_arc():
