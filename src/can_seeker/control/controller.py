@@ -98,8 +98,9 @@ PARAMS = (
     Param('linear_gain', 1.5, 'approach speed per metre of gap error (1/s)', 0.05, 10.0),
     Param('angular_gain', 2.0, 'turn rate per radian of bearing error (1/s)', 0.05, 20.0),
     Param('turn_in_place_deg', 25.0,
-          'APPROACH drives forward only while the bearing is within this, at full speed when '
-          'it is zero (deg)', 1.0, 90.0),
+          'the robot drives forward only while the bearing (of the can in APPROACH, of the '
+          'lookahead point on grid paths) is within this, at full speed when it is zero (deg)',
+          1.0, 90.0),
     Param('search_angular', 0.8, 'turn rate in SEARCH and LOST (rad/s)', 0.05, 3.0,
           safer='lower'),
     Param('lost_timeout', 5.0, 'LOST becomes SEARCH after this long without the can (s)',
