@@ -82,8 +82,27 @@ FAINT_MAX_GREY_SHARE = 0.25
 """Faint colours are judged by their hue only while less than this share of the floor model is
 grey: on a grey floor, noise and a drifting white balance give the floor's own pixels faint
 colours of any hue, so there they count as grey."""
-VALUE_BINS = 32
-"""Intensity histogram bins over HSV value 0-255: 8 grey levels each."""
+VALUE_BIN_FRACTION = 0.08
+VALUE_BIN_MIN_LEVELS = 5
+VALUE_BIN_MAX_LEVELS = 8
+"""Intensity histogram bins over HSV value 0-255 are VALUE_BIN_FRACTION of their lowest grey
+level wide, between these many levels: light falling off, the exposure and lens shading
+multiply a floor's brightness, so a dark floor's shading spans fewer levels than a light
+one's, and a wall a few levels off a dark floor must fall in another bin."""
+
+
+def _value_bin_lut() -> np.ndarray:
+    """uint8 lookup of each grey level's intensity bin (see VALUE_BIN_FRACTION)."""
+    starts = [0]
+    while starts[-1] < 256:
+        width = min(VALUE_BIN_MAX_LEVELS,
+                    max(VALUE_BIN_MIN_LEVELS, int(round(VALUE_BIN_FRACTION * starts[-1]))))
+        starts.append(starts[-1] + width)
+    return (np.searchsorted(starts, np.arange(256), side='right') - 1).astype(np.uint8)
+
+
+VALUE_BIN_LUT = _value_bin_lut()
+VALUE_BINS = int(VALUE_BIN_LUT[-1]) + 1
 CHROMA_SATURATION_MIN = 50
 """Pixels less saturated than this (0-255) have a hue the fine bins cannot trust: they count as
 faintly coloured, or grey (see ``~min_faint_saturation``)."""
@@ -96,7 +115,8 @@ JOINT_HUE_TOLERANCE = 1
 JOINT_VALUE_TOLERANCE = 2
 """The joint test sums the model's mass over this many colour bins either side (hue wraps
 around; grey has no neighbours) and intensity bins either side of a pixel's (colour,
-intensity) bin: +-16 grey levels tolerate the exposure's walk and the light's fall-off."""
+intensity) bin: +-10 grey levels on the darkest floors, +-16 on light ones, tolerate the
+exposure's walk and the light's fall-off."""
 JOINT_BINS = (GREY_BIN + 1) * VALUE_BINS
 BLEND_REACH_FRACTION = 0.025
 """A blend of two floor colours is looked for across at most this fraction of the image width
@@ -129,9 +149,9 @@ CHROMA_MIN_VALUE = 60
 """Pixels (medians) whose brightest channel is darker than this are not judged on their
 chromaticity: a few grey levels of noise are too large a ratio there."""
 CHROMA_JOINT_VALUE_TOLERANCE = JOINT_VALUE_TOLERANCE
-"""The joint chromaticity test sums the floor's mass over this many intensity bins (8 grey
-levels each, of a median's brightest channel) either side of a pixel's, besides the
-CHROMA_TOLERANCE_BINS: the same +-16 grey levels as the joint hue test."""
+"""The joint chromaticity test sums the floor's mass over this many intensity bins (of a
+median's brightest channel) either side of a pixel's, besides the CHROMA_TOLERANCE_BINS: the
+same +-10 to 16 grey levels as the joint hue test."""
 
 FLOOR_PARAMS = (
     Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
@@ -154,7 +174,8 @@ FLOOR_PARAMS = (
           'frame to frame over the whole image and held to the reference area\'s colours, '
           'undone on the whole image before classifying (0 = off)', 0.0, 1.0),
     Param('min_joint_fraction', 0.002, 'a pixel whose (colour, intensity) bin and its '
-          'neighbours (a colour bin and 16 grey levels either side) hold less than this fraction '
+          'neighbours (a colour bin and two intensity bins, 10-16 grey levels, either side) hold '
+          'less than this fraction '
           'of the floor model is an obstacle, even when its colour and its intensity are each '
           'common on the floor: on a floor of two tiles, a wall with the hue of one and the '
           'brightness of the other (1; 0 = off)', 0.0, 1.0),
@@ -169,7 +190,8 @@ FLOOR_PARAMS = (
           'whose white balance drifts, it needs ~max_colour_shift (1; 0 = off)', 0.0, 1.0),
     Param('min_chroma_joint_fraction', 0.002, 'a pixel whose log chromaticity (as for '
           '~min_chroma_fraction) within 0.04 in each ratio and brightness (its median\'s '
-          'brightest channel) within 16 grey levels together hold less than this fraction of '
+          'brightest channel) within two intensity bins (10-16 grey levels) together hold less '
+          'than this fraction of '
           'the floor\'s is an obstacle, even when its chromaticity alone is common: on a floor '
           'of a light and a mid tile, a wall with the light tile\'s chromaticity and the mid '
           'tile\'s brightness (1; 0 = off; needs ~min_chroma_fraction)', 0.0, 1.0),
@@ -227,7 +249,6 @@ def _hue_bin_lut(bins: int, first: int = 0) -> np.ndarray:
 
 HUE_BIN_LUT = _hue_bin_lut(HUE_BINS)
 FAINT_HUE_BIN_LUT = _hue_bin_lut(FAINT_HUE_BINS, HUE_BINS)
-VALUE_BIN_LUT = (np.arange(256) * VALUE_BINS // 256).astype(np.uint8)
 
 
 def _tolerant(common: np.ndarray, wrap: bool) -> np.ndarray:
