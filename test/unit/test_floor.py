@@ -4,8 +4,8 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.vision.floor import (FloorClassifier, FloorSettings, floor_blends,
-                                     reference_trapezoid)
+from can_seeker.vision.floor import (VALUE_BIN_LUT, VALUE_BINS, FloorClassifier, FloorSettings,
+                                     floor_blends, reference_trapezoid)
 
 WIDTH, HEIGHT = 320, 240
 BOX = (120, 60, 200, 140)
@@ -439,3 +439,22 @@ def test_a_blend_is_a_colour_on_the_line_between_the_floor_on_its_two_sides():
     assert floor_blends(image, floor, reach_px=5)[2, 4]
     image[:, 4] = (40, 200, 200)
     assert not floor_blends(image, floor, reach_px=5)[2, 4]
+
+
+def test_a_wall_twelve_levels_above_a_dark_floor_is_an_obstacle():
+    """Shading multiplies brightness, so the intensity bins are narrower on a dark floor: a grey
+    wall 12 levels above a grey floor at level 56 (8-level bins with a neighbour tolerated
+    took it for floor) is an obstacle, and the floor's own noise is not."""
+    floor = floor_image((56, 57, 58), sigma=1.5)
+    mask = FloorClassifier().classify(with_box(floor, (68, 69, 70)))
+    recall, false_rate = box_recall_and_false_rate(mask)
+    assert recall > 0.95
+    assert false_rate < 0.002
+
+
+def test_intensity_bins_are_narrow_on_dark_floors_and_eight_levels_on_light_ones():
+    """Every grey level has a bin, in order, 5 levels wide at the dark end and 8 at the light."""
+    widths = np.bincount(VALUE_BIN_LUT, minlength=VALUE_BINS)
+    assert (np.diff(VALUE_BIN_LUT.astype(int)) >= 0).all() and widths.min() >= 5
+    assert widths[:14].tolist() == [5] * 14
+    assert (widths[VALUE_BIN_LUT[96]:-1] == 8).all() and widths.max() == 8
