@@ -451,6 +451,49 @@ def test_approach_goes_around_an_obstacle_between_robot_and_can():
     assert max(abs(pose.y) for pose in poses) > 0.4
 
 
+def test_an_approach_that_gets_no_nearer_switches_to_keeping_to_its_path():
+    """APPROACH 2 m from the can, no nearer for 10 s (cycling between the path about a corner
+    and the direct law, or standing): it keeps to a path, and the can leaving the view no
+    longer makes it LOST. 10 s more without getting nearer: back to the usual way. Coming
+    0.2 m nearer starts the count again."""
+    controller = make_controller()
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe_scan(controller.scan_sources[0], np.array([[3.0, 0.0]]),
+                            np.array([False]), (0.0, 0.0), 0.0)
+    controller.observe(Sighting(1.8, 0.0, 1.0), 0.0)
+    assert controller.state is State.APPROACH
+    for step in range(201):
+        controller._note_approach_progress(0.05 * step)
+    assert not controller.keep_to_path
+    controller._note_approach_progress(10.1)
+    assert controller.keep_to_path
+    controller.observe(None, 10.2)
+    assert controller.state is State.APPROACH
+    assert controller.sighting.gap_m == pytest.approx(1.8)
+    controller.observe_pose(Pose2D(0.25, 0.0, 0.0), 15.0)
+    controller._note_approach_progress(15.0)
+    controller._note_approach_progress(25.0)
+    assert controller.keep_to_path
+    controller._note_approach_progress(25.1)
+    assert not controller.keep_to_path
+    controller.observe(None, 25.2)
+    assert controller.state is State.LOST
+
+
+def test_keeping_to_the_path_ends_near_the_can_and_outside_approach():
+    """Within DIRECT_GAP_M the direct law stops in front of the can: the can leaving the view
+    there is LOST again; and a new state other than APPROACH or LOST forgets the switch."""
+    controller = make_controller()
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe(Sighting(0.4, 0.0, 1.0), 0.0)
+    controller.keep_to_path = True
+    controller.observe(None, 0.1)
+    assert controller.state is State.LOST
+    controller.keep_to_path = True
+    controller._enter(State.SEARCH)
+    assert not controller.keep_to_path
+
+
 CLUTTER = [(-1.27, 2.58, 0.155), (-0.01, -1.65, 0.21), (-1.57, 2.71, 0.15), (2.43, 1.61, 0.2),
            (-2.38, -1.68, 0.17), (-0.72, -1.09, 0.15)]
 

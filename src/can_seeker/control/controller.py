@@ -188,6 +188,10 @@ DIRECT_GAP_M = 0.5
 STOP_ASIDE_STEP_DEG = 5.0
 """Stop points beside the straight approach are tried this far apart around the can (deg)."""
 STALL_S = 6.0
+APPROACH_STALL_S = 10.0
+"""APPROACH and LOST that have brought the robot no ``STALL_APPROACH_M`` nearer to the can
+for this long (s), farther than ``DIRECT_GAP_M`` from it, change how they head for it (see
+:meth:`Controller._note_approach_progress`)."""
 BACK_UP_BEYOND_M = 0.05
 """A robot backing up to see floor below the camera's view backs up this much farther than
 that floor is below it, so the image's bottom rows see it whole."""
@@ -394,6 +398,9 @@ class Controller:
         self.progress: Optional[Tuple[int, float, float, Optional[np.ndarray]]] = None
         self.stop_aside: Optional[float] = None
         self.backing: Optional[Tuple[float, float, float]] = None
+        if state not in (State.APPROACH, State.LOST):
+            self.approach_progress: Optional[Tuple[float, float]] = None
+            self.keep_to_path = False
 
     def observe(self, sighting: Optional[Sighting], now_s: float,
                 image_stamp_s: float = math.inf) -> None:
@@ -419,9 +426,11 @@ class Controller:
             self.turn_sign = math.copysign(1.0, sighting.bearing_rad)
         ranged = sighting is not None and sighting.has_range
         if (not ranged and self.state in (State.APPROACH, State.STOPPED)
-                and (self.can_below_view() or self.stop_aside is not None)):
+                and (self.can_below_view() or self.stop_aside is not None
+                     or self._keeping_to_path())):
             # The camera cannot range the can there, or the can left the view while the
-            # robot heads for a stop point aside: go on with where it was ranged last.
+            # robot heads for a stop point aside or keeps to a path around an obstacle: go on
+            # with where it was ranged last.
             self.sighting = self._sighting_now(self.can_xy, self.sighting.confidence
                                                if self.sighting is not None else 0.0)
             ranged = True
@@ -458,6 +467,12 @@ class Controller:
         forward_m = (can_x * math.cos(view.yaw) + can_y * math.sin(view.yaw)
                      - self.config.can_radius)
         return forward_m < view.base_near_m + BELOW_VIEW_MARGIN_M
+
+    def _keeping_to_path(self) -> bool:
+        """True while APPROACH keeps to a grid path to the can after a stall (see
+        :meth:`_note_approach_progress`) and the can is farther than ``DIRECT_GAP_M``."""
+        return (self.keep_to_path and self.can_xy is not None and self.navigator.pose is not None
+                and self._sighting_now(self.can_xy, 0.0).gap_m > DIRECT_GAP_M)
 
     def _can_xy_of(self, sighting: Sighting,
                    pose: Optional[Pose2D]) -> Optional[Tuple[float, float]]:
@@ -718,11 +733,13 @@ class Controller:
         straight line when an obstacle holds that back: :meth:`_stop_aside_bearing`). Within
         ``distance_tolerance`` of the stop distance it only faces the can: a stop point aside,
         sought whenever the gap's estimate crossed half the tolerance, turned it away and back
-        again without end."""
+        again without end. After a stall it keeps to the path whether or not the straight line
+        is clear (:meth:`_note_approach_progress`)."""
         if (self.can_xy is not None and self.can_navigate(now_s)
                 and self.sighting.gap_m > DIRECT_GAP_M
-                and (self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
-                                                          self.config.can_exclusion_radius)
+                and (self.keep_to_path
+                     or self.navigator.straight_line_blocked(self.can_xy, self.can_xy,
+                                                             self.config.can_exclusion_radius)
                      or self._direct_law_held_back())):
             command = self._follow_path(self.can_xy, now_s, self.can_xy)
             if command is not None:
@@ -935,6 +952,32 @@ class Controller:
             self.goal_xy = None
             self.progress = (covered, now_s, math.inf, None)
 
+    def _note_approach_progress(self, now_s: float) -> None:
+        """APPROACH and LOST switch between their usual way to the can (the direct law while
+        the straight line is clear, else a grid path; LOST when the can leaves the view) and
+        keeping to the grid path (the can leaving the view is no reason to stop following it)
+        whenever in ``APPROACH_STALL_S`` they have brought the robot no ``STALL_APPROACH_M``
+        nearer to it while it is farther than ``DIRECT_GAP_M``. A way that ends in a cycle
+        (an obstacle's corner beside the straight line: the path around it turns the camera
+        away from the can, LOST turns back, the direct law meets the corner again) or in
+        standing gives way to the other."""
+        if (self.state not in (State.APPROACH, State.LOST) or self.can_xy is None
+                or self.navigator.pose is None):
+            return
+        distance = self.navigator.distance_to(self.can_xy)
+        if (self.approach_progress is None
+                or distance <= self.approach_progress[0] - STALL_APPROACH_M
+                or self._sighting_now(self.can_xy, 0.0).gap_m <= DIRECT_GAP_M):
+            self.approach_progress = (distance, now_s)
+        elif elapsed_s(now_s, self.approach_progress[1]) > APPROACH_STALL_S:
+            self.keep_to_path = not self.keep_to_path
+            self.approach_progress = (distance, now_s)
+            self.path_xy = None
+            self._because('no %.1f m nearer to the can in %.0f s: %s' % (
+                STALL_APPROACH_M, APPROACH_STALL_S,
+                'keeping to a path to it' if self.keep_to_path else 'taking the direct way '
+                'again where the straight line is clear'))
+
     def command(self, now_s: float) -> Tuple[float, float]:
         """The (linear m/s, angular rad/s) command to send at ``now_s``.
 
@@ -965,6 +1008,7 @@ class Controller:
         linear, angular = self._safe(limit_twist(self.last_command, desired, dt_s, self.limits),
                                      now_s)
         self._note_progress(now_s)
+        self._note_approach_progress(now_s)
         # Never forward while closer than stop_distance, even if braking exceeds the limit.
         if (self.state is not State.WANDER and self.sighting is not None
                 and self.sighting.has_range and linear > 0.0):
