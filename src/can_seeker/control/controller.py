@@ -744,6 +744,11 @@ class Controller:
             command = self._follow_path(self.can_xy, now_s, self.can_xy)
             if command is not None:
                 return command
+            if self.keep_to_path and self._can_back_up(self.can_xy,
+                                                       self.config.can_exclusion_radius):
+                self._because('keeping to a path to the can, none found: backing up to see '
+                              'the way')
+                return -self.config.max_reverse, 0.0
         self.path_xy = None
         aside = None
         if (self.can_xy is not None and self.can_navigate(now_s)
