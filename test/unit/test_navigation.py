@@ -480,6 +480,38 @@ def test_an_approach_that_gets_no_nearer_switches_to_keeping_to_its_path():
     assert controller.state is State.LOST
 
 
+def ring_scan(origin_xy, centre_xy, radius_m, max_range_m=3.0):
+    """(ends, hits) in a frame at ``origin_xy`` (yaw 0) of rays all round to a circle of
+    obstacles about ``centre_xy``."""
+    angles = np.linspace(-math.pi, math.pi, 720, endpoint=False)
+    rays = np.stack((np.cos(angles), np.sin(angles)), axis=-1)
+    centre = np.asarray(centre_xy, float) - np.asarray(origin_xy, float)
+    along = rays @ centre
+    across_sq = centre @ centre - along ** 2
+    hits = (across_sq <= radius_m ** 2) & (along > 0.0)
+    ranges = np.where(hits, along - np.sqrt(np.maximum(radius_m ** 2 - across_sq, 0.0)),
+                      max_range_m)
+    return rays * ranges[:, None], hits
+
+
+def test_keeping_to_a_path_that_no_longer_reaches_the_can_backs_up():
+    """After a stall APPROACH keeps to a path; with none to the can (a ring of obstacles about
+    it, as a map that has closed the gap beside an obstacle's corner holds one) it backs up to
+    see the way, where the usual way turns back to the straight line."""
+    controller = make_controller()
+    for now, origin in enumerate(((3.0, 0.0), (1.5, 1.5), (1.5, -1.5), (0.0, 0.0))):
+        controller.observe_pose(Pose2D(origin[0], origin[1], 0.0), now)
+        ends, hits = ring_scan(origin, (1.5, 0.0), 0.6)
+        controller.observe_scan(controller.scan_sources[0], ends, hits, (0.0, 0.0), now)
+    controller.observe(Sighting(1.5 - ROBOT_RADIUS - DEFAULTS['can_radius'], 0.0, 1.0), 3.0)
+    assert controller.state is State.APPROACH
+    usual = controller._toward_can(3.0)
+    assert usual[0] >= 0.0
+    controller.keep_to_path = True
+    assert controller._toward_can(3.1) == (-DEFAULTS['max_reverse'], 0.0)
+    assert controller.why.startswith('keeping to a path to the can, none found: backing up')
+
+
 def test_keeping_to_the_path_ends_near_the_can_and_outside_approach():
     """Within DIRECT_GAP_M the direct law stops in front of the can: the can leaving the view
     there is LOST again; and a new state other than APPROACH or LOST forgets the switch."""
