@@ -8,7 +8,8 @@ import pytest
 from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_vertical_fov
 from can_seeker.camera_mount import CameraMount
 from can_seeker.control import avoidance, planner
-from can_seeker.control.controller import PARAMS, Controller, Sighting, State
+from can_seeker.control.controller import (APPROACH_STALL_BEYOND_MEMORY_S, PARAMS, Controller,
+                                           Sighting, State)
 from can_seeker.control.grid_map import GridMap
 from can_seeker.control.navigation import Navigator, Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
@@ -452,31 +453,33 @@ def test_approach_goes_around_an_obstacle_between_robot_and_can():
 
 
 def test_an_approach_that_gets_no_nearer_switches_to_keeping_to_its_path():
-    """APPROACH 2 m from the can, no nearer for 10 s (cycling between the path about a corner
-    and the direct law, or standing): it keeps to a path, and the can leaving the view no
-    longer makes it LOST. 10 s more without getting nearer: back to the usual way. Coming
-    0.2 m nearer starts the count again."""
+    """APPROACH 2 m from the can, no nearer for ~obstacle_memory + 5 s (cycling between the
+    path about a corner and the direct law, or standing): it keeps to a path, and the can
+    leaving the view no longer makes it LOST. As long again without getting nearer: back to
+    the usual way. Coming 0.2 m nearer starts the count again."""
     controller = make_controller()
+    stall_s = DEFAULTS['obstacle_memory'] + APPROACH_STALL_BEYOND_MEMORY_S
     controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
     controller.observe_scan(controller.scan_sources[0], np.array([[3.0, 0.0]]),
                             np.array([False]), (0.0, 0.0), 0.0)
     controller.observe(Sighting(1.8, 0.0, 1.0), 0.0)
     assert controller.state is State.APPROACH
-    for step in range(201):
+    for step in range(int(stall_s / 0.05) + 1):
         controller._note_approach_progress(0.05 * step)
     assert not controller.keep_to_path
-    controller._note_approach_progress(10.1)
+    controller._note_approach_progress(stall_s + 0.1)
     assert controller.keep_to_path
-    controller.observe(None, 10.2)
+    controller.observe(None, stall_s + 0.2)
     assert controller.state is State.APPROACH
     assert controller.sighting.gap_m == pytest.approx(1.8)
-    controller.observe_pose(Pose2D(0.25, 0.0, 0.0), 15.0)
-    controller._note_approach_progress(15.0)
-    controller._note_approach_progress(25.0)
+    nearer_s = stall_s + 5.0
+    controller.observe_pose(Pose2D(0.25, 0.0, 0.0), nearer_s)
+    controller._note_approach_progress(nearer_s)
+    controller._note_approach_progress(nearer_s + stall_s)
     assert controller.keep_to_path
-    controller._note_approach_progress(25.1)
+    controller._note_approach_progress(nearer_s + stall_s + 0.1)
     assert not controller.keep_to_path
-    controller.observe(None, 25.2)
+    controller.observe(None, nearer_s + stall_s + 0.2)
     assert controller.state is State.LOST
 
 

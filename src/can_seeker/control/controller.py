@@ -188,10 +188,11 @@ DIRECT_GAP_M = 0.5
 STOP_ASIDE_STEP_DEG = 5.0
 """Stop points beside the straight approach are tried this far apart around the can (deg)."""
 STALL_S = 6.0
-APPROACH_STALL_S = 10.0
-"""APPROACH and LOST that have brought the robot no ``STALL_APPROACH_M`` nearer to the can
-for this long (s), farther than ``DIRECT_GAP_M`` from it, change how they head for it (see
-:meth:`Controller._note_approach_progress`)."""
+APPROACH_STALL_BEYOND_MEMORY_S = 5.0
+"""APPROACH and LOST that have brought the robot no ``STALL_APPROACH_M`` nearer to the can,
+farther than ``DIRECT_GAP_M`` from it, for this much longer than ``~obstacle_memory`` (s)
+change how they head for it (see :meth:`Controller._note_approach_progress`): a robot held
+back by an obstacle it no longer sees (a phantom too) first gets the time to forget it."""
 BACK_UP_BEYOND_M = 0.05
 """A robot backing up to see floor below the camera's view backs up this much farther than
 that floor is below it, so the image's bottom rows see it whole."""
@@ -961,8 +962,9 @@ class Controller:
         """APPROACH and LOST switch between their usual way to the can (the direct law while
         the straight line is clear, else a grid path; LOST when the can leaves the view) and
         keeping to the grid path (the can leaving the view is no reason to stop following it)
-        whenever in ``APPROACH_STALL_S`` they have brought the robot no ``STALL_APPROACH_M``
-        nearer to it while it is farther than ``DIRECT_GAP_M``. A way that ends in a cycle
+        whenever in ``~obstacle_memory`` + ``APPROACH_STALL_BEYOND_MEMORY_S`` they have brought
+        the robot no ``STALL_APPROACH_M`` nearer to it while it is farther than
+        ``DIRECT_GAP_M``. A way that ends in a cycle
         (an obstacle's corner beside the straight line: the path around it turns the camera
         away from the can, LOST turns back, the direct law meets the corner again) or in
         standing gives way to the other."""
@@ -970,16 +972,17 @@ class Controller:
                 or self.navigator.pose is None):
             return
         distance = self.navigator.distance_to(self.can_xy)
+        stall_s = self.config.obstacle_memory + APPROACH_STALL_BEYOND_MEMORY_S
         if (self.approach_progress is None
                 or distance <= self.approach_progress[0] - STALL_APPROACH_M
                 or self._sighting_now(self.can_xy, 0.0).gap_m <= DIRECT_GAP_M):
             self.approach_progress = (distance, now_s)
-        elif elapsed_s(now_s, self.approach_progress[1]) > APPROACH_STALL_S:
+        elif elapsed_s(now_s, self.approach_progress[1]) > stall_s:
             self.keep_to_path = not self.keep_to_path
             self.approach_progress = (distance, now_s)
             self.path_xy = None
             self._because('no %.1f m nearer to the can in %.0f s: %s' % (
-                STALL_APPROACH_M, APPROACH_STALL_S,
+                STALL_APPROACH_M, stall_s,
                 'keeping to a path to it' if self.keep_to_path else 'taking the direct way '
                 'again where the straight line is clear'))
 
