@@ -473,7 +473,12 @@ class Controller:
         """True while APPROACH keeps to a grid path to the can after a stall (see
         :meth:`_note_approach_progress`) and the can is farther than ``DIRECT_GAP_M``."""
         return (self.keep_to_path and self.can_xy is not None and self.navigator.pose is not None
-                and self._sighting_now(self.can_xy, 0.0).gap_m > DIRECT_GAP_M)
+                and self._beyond_direct_gap())
+
+    def _beyond_direct_gap(self) -> bool:
+        """True while the gap to where the can was ranged last (odom; needs ``can_xy`` and a
+        pose) is wider than ``DIRECT_GAP_M``, the last stretch the direct law drives."""
+        return self._sighting_now(self.can_xy, 0.0).gap_m > DIRECT_GAP_M
 
     def _can_xy_of(self, sighting: Sighting,
                    pose: Optional[Pose2D]) -> Optional[Tuple[float, float]]:
@@ -964,10 +969,9 @@ class Controller:
         keeping to the grid path (the can leaving the view is no reason to stop following it)
         whenever in ``~obstacle_memory`` + ``APPROACH_STALL_BEYOND_MEMORY_S`` they have brought
         the robot no ``STALL_APPROACH_M`` nearer to it while it is farther than
-        ``DIRECT_GAP_M``. A way that ends in a cycle
-        (an obstacle's corner beside the straight line: the path around it turns the camera
-        away from the can, LOST turns back, the direct law meets the corner again) or in
-        standing gives way to the other."""
+        ``DIRECT_GAP_M``. A way that ends in a cycle (an obstacle's corner beside the straight
+        line: the path around it turns the camera away from the can, LOST turns back, the
+        direct law meets the corner again) or in standing gives way to the other."""
         if (self.state not in (State.APPROACH, State.LOST) or self.can_xy is None
                 or self.navigator.pose is None):
             return
@@ -975,7 +979,7 @@ class Controller:
         stall_s = self.config.obstacle_memory + APPROACH_STALL_BEYOND_MEMORY_S
         if (self.approach_progress is None
                 or distance <= self.approach_progress[0] - STALL_APPROACH_M
-                or self._sighting_now(self.can_xy, 0.0).gap_m <= DIRECT_GAP_M):
+                or not self._beyond_direct_gap()):
             self.approach_progress = (distance, now_s)
         elif elapsed_s(now_s, self.approach_progress[1]) > stall_s:
             self.keep_to_path = not self.keep_to_path
