@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from can_seeker.vision.floor import (VALUE_BIN_LUT, VALUE_BINS, FloorClassifier, FloorSettings,
-                                     floor_blends, reference_trapezoid)
+                                     fill_holes, floor_blends, reference_trapezoid)
 
 WIDTH, HEIGHT = 320, 240
 BOX = (120, 60, 200, 140)
@@ -145,6 +145,38 @@ def test_smooth_shading_is_floor_but_an_object_of_the_same_darkness_is_not():
     off = FloorClassifier(FloorSettings(min_edge_contrast=0.0))
     off.classify(floor)
     assert off.classify(shaded).any()
+
+
+def test_a_wall_with_floor_coloured_seams_is_an_obstacle():
+    """A wall 9 grey levels darker than a plain floor, its edge soft over 4 rows, with
+    rendered seams a few levels off the floor along it (as pybullet draws a wall head-on): the
+    seams are holes in the wall's region, and their faint outlines must not outweigh the
+    wall's own edge with the floor, or the whole wall is dismissed as shading."""
+    floor = np.full((HEIGHT, WIDTH, 3), 56, np.uint8)
+    classifier = FloorClassifier()
+    classifier.classify(floor)
+    rows = np.arange(HEIGHT, dtype=np.float64)[:, None, None]
+    image = np.clip(47.0 + (rows - 100.0) * 9.0 / 4.0, 47.0, 56.0) * np.ones((1, WIDTH, 3))
+    for row in range(10, 90, 8):
+        for column in range(5, WIDTH - 5, 16):
+            image[row:row + 2, column:column + 10] = 52.0
+    mask = classifier.classify(image.round().astype(np.uint8))
+    wall = np.ones((95, WIDTH), bool)
+    for row in range(10, 90, 8):
+        wall[row - 1:row + 3] = False
+    assert (mask[:95][wall] > 0).mean() > 0.98
+    assert not mask[106:].any()
+
+
+def test_fill_holes_fills_what_the_border_cannot_reach():
+    ring = np.zeros((20, 20), np.uint8)
+    ring[4:16, 4:16] = 255
+    ring[8:12, 8:12] = 0
+    cup = ring.copy()
+    cup[8:20, 8:12] = 0
+    assert (fill_holes(ring)[4:16, 4:16] == 255).all()
+    assert (fill_holes(ring)[:4] == 0).all()
+    assert np.array_equal(fill_holes(cup), cup)
 
 
 def test_a_pale_wall_under_a_warm_cast_is_an_obstacle_though_as_bright_as_the_floor():

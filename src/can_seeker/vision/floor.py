@@ -644,18 +644,33 @@ def colour_gradient(bgr: np.ndarray, where: Optional[np.ndarray] = None) -> np.n
     return np.maximum(np.maximum(magnitude[..., 0], magnitude[..., 1]), magnitude[..., 2])
 
 
+def fill_holes(mask: np.ndarray) -> np.ndarray:
+    """mono8 ``mask`` with every hole filled: the zero pixels no path of zero pixels
+    (4-connected) joins to the image border become 255."""
+    height, width = mask.shape
+    outside = np.ones((height + 2, width + 2), np.uint8)
+    outside[1:-1, 1:-1] = mask == 0
+    reached = np.zeros((height + 4, width + 4), np.uint8)
+    cv2.floodFill(outside, reached, (0, 0), 2, flags=4)
+    return np.where(outside[1:-1, 1:-1] == 2, 0, 255).astype(np.uint8)
+
+
 def outline_contrast(bgr: np.ndarray, mask: np.ndarray, labels: np.ndarray,
                      count: int) -> np.ndarray:
-    """Mean colour gradient (grey levels per pixel) along each labelled region's outline away
-    from the image border; NaN for a region whose whole outline is on the border (it says
-    nothing either way, and is kept)."""
-    outline = cv2.subtract(mask, cv2.erode(mask, np.ones((3, 3), np.uint8)))
+    """Mean colour gradient (grey levels per pixel) along each labelled region's outer outline
+    away from the image border; NaN for a region whose whole outline is on the border (it says
+    nothing either way, and is kept). Holes do not count: floor-coloured speckles inside an
+    object (lettering, a rendered seam along a wall) are bounded by the object's own shading,
+    and their many pixels would outweigh the edge that sets the object off from the floor."""
+    solid = fill_holes(mask)
+    outline = cv2.subtract(solid, cv2.erode(solid, np.ones((3, 3), np.uint8)))
     outline[0, :] = outline[-1, :] = 0
     outline[:, 0] = outline[:, -1] = 0
     on_outline = outline > 0
     region = labels[on_outline]
     gradient = colour_gradient(bgr, on_outline)
     lengths = np.bincount(region, minlength=count).astype(np.float64)
+    lengths[0] = 0.0
     sums = np.bincount(region, weights=gradient, minlength=count)
     with np.errstate(invalid='ignore', divide='ignore'):
         return np.where(lengths > 0, sums / lengths, np.nan)
