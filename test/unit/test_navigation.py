@@ -147,25 +147,6 @@ def test_frontier_keeps_its_goal_until_another_costs_clearly_less():
     assert nearer != ahead
 
 
-def test_frontier_keeps_its_goal_once_the_camera_has_covered_it():
-    """Driving toward the goal ahead, the camera covers it and the floor about it; the goal
-    still leads into unseen floor and is kept, where the cheapest goal afresh lies elsewhere."""
-    seen = np.zeros((40, 40), bool)
-    seen[10:30, 10:30] = True
-    blocked = np.zeros_like(seen)
-    distance = planner.wavefront(~blocked, (20, 20))
-    ahead = planner.frontier_goal(distance, seen, blocked, (20, 20), 0.0, 0.1, 0.3, 6)
-    assert ahead[0] == 30
-    seen[30:33, ahead[1] - 3:ahead[1] + 4] = True
-    afresh = planner.frontier_goal(distance, seen, blocked, (20, 20), 0.0, 0.1, 0.3, 6)
-    kept = planner.frontier_goal(distance, seen, blocked, (20, 20), 0.0, 0.1, 0.3, 6,
-                                 previous=ahead, switch_m=0.5)
-    assert afresh != ahead and kept == ahead
-    blocked[ahead] = True
-    assert planner.frontier_goal(distance, seen, blocked, (20, 20), 0.0, 0.1, 0.3, 6,
-                                 previous=ahead, switch_m=0.5) != ahead
-
-
 def test_no_frontier_when_everything_reachable_was_seen():
     seen = np.ones((20, 20), bool)
     blocked = np.zeros_like(seen)
@@ -444,29 +425,6 @@ def test_a_place_chosen_after_stalled_floor_gets_its_own_stall_time():
         controller._note_progress(0.05 * step)
     assert controller.goal_xy is not None
     assert controller.navigator.unviewed_candidate() is not None
-
-
-def test_exploration_keeps_a_covered_floor_goal_until_the_robot_is_near_it():
-    """A floor goal covered on the way is kept (the floor beyond it comes into view as the
-    robot drives on); within 0.5 m of it the robot chooses the next one."""
-    controller = make_controller()
-    navigator = controller.navigator
-    grid = navigator.grid
-    navigator.pose = Pose2D(0.0, 0.0, 0.0)
-    centre = grid.cell_of(0.0, 0.0)
-    grid.seen[centre[0] - 10:centre[0] + 10, centre[1] - 10:centre[1] + 10] = True
-    controller.state = State.EXPLORE
-    controller._explore(0.0)
-    goal = controller.goal_xy
-    assert goal is not None and navigator.distance_to(goal) > 0.9
-    cell = grid.cell_of(*goal)
-    grid.seen[cell[0] - 3:cell[0] + 4, cell[1] - 3:cell[1] + 4] = True
-    controller._explore(0.05)
-    assert np.array_equal(controller.goal_xy, goal)
-    navigator.pose = Pose2D(goal[0] - 0.3 * math.cos(math.atan2(goal[1], goal[0])),
-                            goal[1] - 0.3 * math.sin(math.atan2(goal[1], goal[0])), 0.0)
-    controller._explore(0.1)
-    assert controller.goal_xy is not None and not np.array_equal(controller.goal_xy, goal)
 
 
 def test_arriving_at_a_place_where_the_can_may_stand_counts_it_as_looked_at():

@@ -181,8 +181,6 @@ PARAMS = (
 
 
 FRONTIER_MIN_UNSEEN = 6
-FLOOR_GOAL_REACHED_M = 2.0 * GOAL_REACHED_M
-"""A floor goal this near is done: the nearest :meth:`Navigator.frontier` chooses."""
 SAFETY_RESERVE_M = 0.03
 STALL_CELLS = 5
 STALL_APPROACH_M = 0.2
@@ -697,16 +695,14 @@ class Controller:
 
     def _explore(self, now_s: float) -> Tuple[float, float]:
         """Head for the nearest place an all-round scan showed a small object standing free
-        that the camera has not had in view (the can, maybe), until it has; else for the best
-        floor not covered yet, until ``FLOOR_GOAL_REACHED_M`` from it (covered on the way, it
-        still leads on into unseen floor: :func:`planner.frontier_goal`). SEARCH again on
-        arrival at a place where the can may stand (it then counts as looked at: on the way a
-        can there would have come into view)."""
+        that the camera has not had in view (the can, maybe), else for the best floor not
+        covered yet; SEARCH again on arrival (a place where the can may stand then counts as
+        looked at: on the way a can there would have come into view)."""
         navigator, config = self.navigator, self.config
-        done = (self.goal_xy is not None
-                and (navigator.candidate_viewed(self.goal_xy) if self.goal_is_candidate
-                     else navigator.distance_to(self.goal_xy) < FLOOR_GOAL_REACHED_M))
-        if (self.goal_xy is None or done
+        covered = (self.goal_xy is not None
+                   and (navigator.candidate_viewed(self.goal_xy) if self.goal_is_candidate
+                        else navigator.is_seen(self.goal_xy)))
+        if (self.goal_xy is None or covered
                 or elapsed_s(now_s, self.planned_s) >= config.replan_period):
             previous_goal, previous_is_candidate = self.goal_xy, self.goal_is_candidate
             self.goal_xy = navigator.unviewed_candidate()
@@ -714,8 +710,7 @@ class Controller:
             if self.goal_xy is None:
                 self.goal_xy = navigator.frontier(
                     config.explore_turn_cost, FRONTIER_MIN_UNSEEN,
-                    None if previous_goal is None or previous_is_candidate or done
-                    else previous_goal)
+                    None if previous_goal is None or previous_is_candidate else previous_goal)
             if (self.goal_xy is None or previous_goal is None
                     or not np.array_equal(self.goal_xy, previous_goal)):
                 self.path_xy = None

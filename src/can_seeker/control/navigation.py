@@ -429,6 +429,11 @@ class Navigator:
                 return self.grid.centre_of(*window.grid(goal))
         return None
 
+    def is_seen(self, xy: Sequence[float]) -> bool:
+        """True when the camera has covered the cell of odom point ``xy``."""
+        cell = self.grid.cell_of(xy[0], xy[1])
+        return cell is None or bool(self.grid.seen[cell])
+
     def _add_candidates(self, points_xy: np.ndarray) -> None:
         """Remember the odom places where the can may stand, once each (within a cell)."""
         for point in points_xy:

@@ -115,12 +115,9 @@ def frontier_goal(distance: np.ndarray, seen: np.ndarray, blocked: np.ndarray,
     Only cells with at least ``min_unseen_cells`` unseen free cells in their 5 x 5
     neighbourhood count, so a lone unseen cell between seen ones is no reason to drive, and
     only those more than ``min_distance_cells`` of path away (the robot is already there).
-    The ``previous`` goal, while it is still reachable, unblocked and that far, is kept unless
-    another costs at least ``switch_m`` less, even once the camera has covered it: a goal is a
-    way into unseen floor, whose edge moves ahead of a robot driving that way. Dropped as soon
-    as covered, it gave way every few centimetres to one of the goals of about the same cost
-    left, ahead and right of the strip of covered floor, and a robot turning to each in turn
-    swept little floor for its time.
+    The ``previous`` goal, while it is still reachable, unseen and unblocked, is kept unless
+    another costs at least ``switch_m`` less: two goals of about the same cost would otherwise
+    take turns as the coverage grows, and a robot turning to each in turn reaches neither.
     """
     unseen_free = ~seen & ~blocked
     next_to_seen = np.zeros_like(seen)
@@ -145,7 +142,7 @@ def frontier_goal(distance: np.ndarray, seen: np.ndarray, blocked: np.ndarray,
     goal_costs = costs(xs, ys)
     best = int(np.argmin(goal_costs))
     if (previous is not None and 0 <= previous[0] < seen.shape[0]
-            and 0 <= previous[1] < seen.shape[1] and not blocked[previous]
+            and 0 <= previous[1] < seen.shape[1] and unseen_free[previous]
             and np.isfinite(distance[previous]) and distance[previous] > min_distance_cells
             and goal_costs[best] > costs(np.array([previous[0]]), np.array([previous[1]]))[0]
             - switch_m):
