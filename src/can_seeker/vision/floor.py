@@ -670,6 +670,7 @@ def outline_contrast(bgr: np.ndarray, mask: np.ndarray, labels: np.ndarray,
     region = labels[on_outline]
     gradient = colour_gradient(bgr, on_outline)
     lengths = np.bincount(region, minlength=count).astype(np.float64)
+    # A filled hole pixel diagonal to the outside can lie on the outline with no region label.
     lengths[0] = 0.0
     sums = np.bincount(region, weights=gradient, minlength=count)
     with np.errstate(invalid='ignore', divide='ignore'):
