@@ -220,7 +220,8 @@ def bench_config(seed: int, realism: str, randomize_appearance: bool,
     return checked_config(SimpleNamespace(**values), lambda text: None)
 
 
-def _look_text(scene) -> str:
+def look_text(scene) -> str:
+    """The floor, wall and obstacle colours of ``scene``, for a table."""
     def rgb(rgba):
         return 'pybullet' if rgba is None else ' '.join('%.2f' % value for value in rgba[:3])
     floor = rgb(scene.floor_rgba)
@@ -228,6 +229,11 @@ def _look_text(scene) -> str:
         floor += ' / ' + rgb(scene.floor_checker_rgba)
     return 'floor %s, wall %s, obstacles %s' % (floor, rgb(scene.wall_rgba),
                                                 rgb(scene.obstacle_rgba))
+
+
+def mount_text(mount) -> str:
+    """The camera mount's height and pitch, for a table."""
+    return 'height %.2f m, pitch %.1f deg' % (mount.height_m, mount.pitch_deg)
 
 
 def run_room(urdf_path: str, seed: int, floor_settings: FloorSettings, duration_s: float,
@@ -242,8 +248,7 @@ def run_room(urdf_path: str, seed: int, floor_settings: FloorSettings, duration_
     pose = camera_pose_from_mount(camera.mount)
     intrinsics = camera.intrinsics
     truth_lidar = LidarSpec(TRUTH_BEAMS, ROBOT_RADIUS_M + 0.005, 8.0, TRUTH_HEIGHT_M)
-    result = RoomResult(seed, _look_text(config.scene), 'height %.2f m, pitch %.1f deg' % (
-        camera.mount.height_m, camera.mount.pitch_deg))
+    result = RoomResult(seed, look_text(config.scene), mount_text(camera.mount))
     scanner = CameraScanner(floor_settings)
     with World(urdf_path, camera, config.physics_rate, config.renderer,
                can_rgba=config.can_color, scene=config.scene,

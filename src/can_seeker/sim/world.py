@@ -12,7 +12,7 @@ import os
 import shutil
 import tempfile
 from dataclasses import dataclass, replace
-from typing import FrozenSet, Optional, Sequence, Tuple
+from typing import Dict, FrozenSet, Optional, Sequence, Tuple
 
 import cv2
 import numpy as np
@@ -37,6 +37,9 @@ FLOOR_DEPTH_M = 10.0
 CAN_RGBA = (0.8, 0.05, 0.05, 1.0)
 """Default can colour (red, green, blue, alpha in 0-1)."""
 
+SEGMENTATION_BODY_MASK = (1 << 24) - 1
+"""A segmentation pixel holds the body index in its low 24 bits (the link index above them
+when link masks are asked for; they are not)."""
 CLIP_NEAR_M = 0.02
 CLIP_FAR_M = 30.0
 CONTACT_TOLERANCE_M = 0.001
@@ -319,11 +322,13 @@ class World:
         else:
             self._client.changeVisualShape(self._can, -1, rgbaColor=list(rgba))
 
-    def reset_robot(self):
-        """Put the robot at the world origin facing +x, at rest, wheels stopped."""
+    def reset_robot(self, x_m: float = 0.0, y_m: float = 0.0, yaw_rad: float = 0.0):
+        """Put the robot at (x, y) in the world frame facing ``yaw_rad`` (the origin facing +x
+        by default), at rest, wheels stopped."""
         client = self._client
-        position, orientation = client.multiplyTransforms((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0),
-                                                          *self._inertial_in_base)
+        position, orientation = client.multiplyTransforms(
+            (x_m, y_m, 0.0), client.getQuaternionFromEuler((0.0, 0.0, yaw_rad)),
+            *self._inertial_in_base)
         client.resetBasePositionAndOrientation(self._robot, position, orientation)
         client.resetBaseVelocity(self._robot, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
         for joint in self._wheel_joints:
@@ -425,6 +430,22 @@ class World:
     def render_rgba(self, light_direction: Optional[Sequence[float]] = None) -> np.ndarray:
         """The camera image as an HxWx4 uint8 RGBA array, lit from ``light_direction`` (a
         vector toward the light, world frame) or by the renderer's fixed light."""
+        return self._camera_image(pybullet.ER_NO_SEGMENTATION_MASK, light_direction)[0]
+
+    def render_segmented(self, encoding: str = 'bgr8') -> Tuple[np.ndarray, Dict[str, np.ndarray]]:
+        """(image as :meth:`render`, {name: boolean HxW mask of its pixels}) for 'floor', 'can',
+        'robot' and every wall and obstacle of the scene in view."""
+        rgba, segmentation = self._camera_image(0, None)
+        names = {**self._solids, self._can: 'can', self._robot: 'robot'}
+        if self._floor is not None:
+            names[self._floor] = 'floor'
+        body = np.asarray(segmentation).reshape(rgba.shape[:2]) & SEGMENTATION_BODY_MASK
+        masks = {names[int(index)]: body == index for index in np.unique(body)
+                 if int(index) in names}
+        return rgba_to_image(rgba, encoding), masks
+
+    def _camera_image(self, flags: int, light_direction: Optional[Sequence[float]]):
+        """(HxWx4 uint8 RGBA, segmentation) of the camera, rendered with pybullet ``flags``."""
         client = self._client
         eye, rotation = self.camera_pose()
         view = client.computeViewMatrix(eye.tolist(), (eye + rotation[:, 0]).tolist(),
@@ -435,11 +456,11 @@ class World:
         renderer = (pybullet.ER_TINY_RENDERER if self.renderer_name == 'tiny'
                     else pybullet.ER_BULLET_HARDWARE_OPENGL)
         lighting = {} if light_direction is None else {'lightDirection': list(light_direction)}
-        _, _, rgba, _, _ = client.getCameraImage(camera.width, camera.height, view, projection,
-                                                 renderer=renderer,
-                                                 flags=pybullet.ER_NO_SEGMENTATION_MASK,
-                                                 **lighting)
-        return np.asarray(rgba, dtype=np.uint8).reshape(camera.height, camera.width, 4)
+        _, _, rgba, _, segmentation = client.getCameraImage(
+            camera.width, camera.height, view, projection, renderer=renderer, flags=flags,
+            **lighting)
+        return (np.asarray(rgba, dtype=np.uint8).reshape(camera.height, camera.width, 4),
+                segmentation)
 
     def render(self, encoding: str = 'bgr8',
                light_direction: Optional[Sequence[float]] = None) -> np.ndarray:
