@@ -1,6 +1,6 @@
 """The look-contrast measure: an object's outline against the floor right beside it (one tile of
 a checker, not their mix), the views that face walls and obstacles, the summary's counts, and
-a random room whose walls render within two grey levels of its floor."""
+a random room whose walls render within a few grey levels of its floor."""
 import math
 import pathlib
 
