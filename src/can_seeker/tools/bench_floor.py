@@ -9,11 +9,11 @@ floor parameter) are compared on exactly the same images.
 import argparse
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 
 from can_seeker.evaluation.floor_bench import run_room, summary_rows
 from can_seeker.ros.paths import urdf_path
 from can_seeker.sim.realism import REALISM_PRESETS
+from can_seeker.tools.room_pool import map_rooms
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 
 
@@ -61,9 +61,7 @@ def _room(args, seed):
 def main(argv=None):
     args = parse_args(argv)
     start_s = time.monotonic()
-    seeds = range(args.seed, args.seed + args.rooms)
-    with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        results = list(pool.map(_room, [args] * len(seeds), seeds))
+    results = map_rooms(_room, args)
     print('bench_floor: %d rooms from seed %d, %s realism%s, %.0f s each, floor %s (%.0f s)'
           % (args.rooms, args.seed, args.realism,
              ' with frame drops' if args.frame_drops else '', args.duration,

@@ -10,10 +10,10 @@ drift), so a real camera's noise comes on top.
 import argparse
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 
 from can_seeker.evaluation.look_contrast import measure_room, summary_rows
 from can_seeker.ros.paths import urdf_path
+from can_seeker.tools.room_pool import map_rooms
 
 
 def parse_args(argv=None):
@@ -37,9 +37,7 @@ def _room(args, seed):
 def main(argv=None):
     args = parse_args(argv)
     start_s = time.monotonic()
-    seeds = range(args.seed, args.seed + args.rooms)
-    with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        results = list(pool.map(_room, [args] * len(seeds), seeds))
+    results = map_rooms(_room, args)
     print('bench_looks: %d rooms from seed %d%s%s (%.0f s)'
           % (args.rooms, args.seed, ', random looks' if args.randomize_appearance else '',
              ', random mounts' if args.randomize_mount else '', time.monotonic() - start_s))
