@@ -32,6 +32,8 @@ from can_seeker.sim.scene import (CAN_HEIGHT_M, CAN_MASS_KG, CAN_RADIUS_M, EMPTY
 
 WHEEL_MAX_TORQUE_NM = 2.0
 CAN_LATERAL_FRICTION = 0.5
+CAN_AWAY_M = (0.0, 0.0, 1000.0)
+"""Where the can waits, touching nothing, while its old contacts are dropped (m, world)."""
 FLOOR_DEPTH_M = 10.0
 """Thickness of a coloured floor slab, as deep as pybullet's plane (m)."""
 CAN_RGBA = (0.8, 0.05, 0.05, 1.0)
@@ -337,9 +339,17 @@ class World:
         self.set_twist(0.0, 0.0)
 
     def place_can(self, x_m: float, y_m: float):
-        """Stand the can upright and at rest with its axis at (x, y) in the world frame (m)."""
+        """Stand the can upright and at rest with its axis at (x, y) in the world frame (m).
+
+        The physics engine carries a resting body's contact points from step to step; the can
+        first leaves everything it touches for one collision pass, so it settles the same
+        whatever it did or how long it stood before (else a trial's can settled a fraction of a
+        micrometre differently with the time its start took, and some trials took another
+        course)."""
         self._can_home = (float(x_m), float(y_m))
         client = self._client
+        client.resetBasePositionAndOrientation(self._can, CAN_AWAY_M, (0.0, 0.0, 0.0, 1.0))
+        client.performCollisionDetection()
         client.resetBasePositionAndOrientation(self._can, (x_m, y_m, CAN_HEIGHT_M / 2.0),
                                                (0.0, 0.0, 0.0, 1.0))
         client.resetBaseVelocity(self._can, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
