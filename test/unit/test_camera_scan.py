@@ -372,7 +372,7 @@ def test_the_excluded_can_is_the_most_can_like_red_blob_not_the_largest():
 
 
 LOW_STEEP_MOUNT = CameraMount(0.15, 35.0)
-"""A camera low and steep enough to see the front of the robot's top (random mount 3170)."""
+"""A camera low and steep enough to see the front of the robot's top (0.15 m up, 35 deg down)."""
 
 
 def test_a_low_steep_camera_sees_its_robot_where_the_body_model_says():

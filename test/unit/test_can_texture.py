@@ -103,9 +103,9 @@ def test_the_detector_finds_and_ranges_the_textured_can_like_the_plain_one():
 def test_a_steep_camera_is_sure_of_the_can_close_below_it():
     """A camera 0.33 m up pitched 35 deg down sees the can 0.25-0.4 m away from above: the
     lid cuts into the red side's top and the lettering notches its sides (solidity 0.85-0.92).
-    Judged as a silhouette seen from the side that scored 0.37 at 0.25 m, below the
-    controller's ~min_confidence, and the robot lost the can at its stop point; judged against
-    the red side of a can seen from there, it is sure of it."""
+    Judged as a silhouette seen from the side that scores 0.37 at 0.25 m, below the
+    controller's ~min_confidence, so the controller would lose the can at its stop point;
+    judged against the red side of a can seen from there, it is sure of it."""
     from can_seeker.vision.detector import RedCanDetector
     from can_seeker.vision.report import CanModel, can_report, fallback_pose
     camera = CameraSpec(320, 240, 45.0, CameraMount(0.33, 34.6))

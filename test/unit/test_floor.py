@@ -285,11 +285,11 @@ def test_a_wall_with_one_tiles_hue_and_the_others_brightness_is_an_obstacle():
 
 
 def test_a_pinkish_grey_wall_on_a_greenish_grey_floor_is_an_obstacle():
-    """Random looks, seed 3231: a checker of greenish greys (saturation about 55 of 255) and a
-    pinkish grey wall (saturation 24) as bright as the light tile. Noise drops some floor pixels
-    under the saturation at which hue is judged finely; as "grey" they taught the model the
-    wall's bin, and the robot drove into the wall. Judged on the faint colours' coarse hue bins,
-    the wall is pink and the floor green."""
+    """A checker of greenish greys (saturation about 55 of 255) and a pinkish grey wall
+    (saturation 24) as bright as the light tile. Noise drops some floor pixels under the
+    saturation at which hue is judged finely; as "grey" they teach the model the wall's bin, so
+    without faint colours the wall is floor. Judged on the faint colours' coarse hue bins, the
+    wall is pink and the floor green."""
     light, dark, wall = (92, 104, 80), (75, 84, 65), (96, 96, 106)
     recall, false_rate = wall_on_checker(light, dark, wall,
                                          FloorSettings(min_faint_saturation=16))
@@ -299,10 +299,10 @@ def test_a_pinkish_grey_wall_on_a_greenish_grey_floor_is_an_obstacle():
 
 
 def test_a_wall_with_one_tiles_chromaticity_and_the_others_brightness_is_an_obstacle():
-    """Random looks, seed 3122: a checker of a light pink tile and a mid pinkish grey one, and a
-    pink wall as bright as the mid tile. All three share a hue bin; the wall's chromaticity
-    (log R/G 0.32) is near the light tile's (0.27), its brightness the mid tile's: only the pair
-    of them is new to the floor (the robot drove into the wall while exploring)."""
+    """A checker of a light pink tile and a mid pinkish grey one, and a pink wall as bright as
+    the mid tile. All three share a hue bin; the wall's chromaticity (log R/G 0.32) is near the
+    light tile's (0.27), its brightness the mid tile's: only the pair of them is new to the
+    floor, so only the joint test finds the wall."""
     light, mid, wall = (166, 167, 219), (117, 121, 147), (112, 112, 154)
     recall, false_rate = wall_on_checker(light, mid, wall,
                                          FloorSettings(min_chroma_joint_fraction=0.002))
@@ -351,10 +351,10 @@ def test_a_noisy_grey_floor_is_floor_whatever_hue_its_noise_gives_faint_pixels(f
 
 def test_a_grey_floor_whose_white_balance_drifts_to_a_faint_colour_stays_floor():
     """Harsh realism: the white balance drifts the pybullet checker's greys to faint oranges and
-    blues within seconds. Judged by hue, every such tile became an obstacle (bench_floor, harsh
-    2000-2009: phantom bins 16 % -> 47 %); on a floor that is mostly grey faint colours count as
-    grey. (The chromaticity test is off: without the white-balance lock a drift moves the
-    floor's chromaticity as well; the lock is off, the jumps are not a drift's pace.)"""
+    blues within seconds. Judged by hue, every such tile would be an obstacle in some frames;
+    on a floor that is mostly grey faint colours count as grey. (The chromaticity test is off:
+    without the white-balance lock a drift moves the floor's chromaticity as well; the lock is
+    off, the jumps are not a drift's pace.)"""
     classifier = FloorClassifier(FloorSettings(min_faint_saturation=16, min_chroma_fraction=0.0,
                                                max_colour_shift=0.0))
     for seed in range(5):

@@ -268,15 +268,16 @@ def test_turning_over_large_tiles_of_near_colours_is_no_step():
     """The robot turns on the spot over two large tiles of near colours: their edge sweeps
     across the image, so the mix of the two colours in view goes from mostly dark to mostly
     light and back while nothing drifts. The whole image's histogram moves as under a drift
-    (steps read from it added up to 1.4 bins); the pixels that stay on their tile do not change
-    colour, and the shift stays under a third of a bin."""
+    (steps read from it would add up to 1.4 bins); the pixels that stay on their tile do not
+    change colour, and the shift stays under a third of a bin."""
     sweep = list(range(150, 10, -7)) + list(range(10, 150, 7))
     assert turning(sweep * 2)[1] < 0.35
 
 
 def test_turning_over_large_tiles_the_steps_follow_a_drift():
     """The same turn under a drift of 0.3 bin a frame: the pixels that stay on their tile carry
-    it, and the shift follows (steps read from the whole image's histogram ended 3 bins off)."""
+    it, and the shift follows (steps read from the whole image's histogram would end 3 bins
+    off)."""
     lock, _, drift = turning(range(150, 10, -7), (0.006, -0.004))
     assert lock.shift_log == pytest.approx(drift, abs=0.5 * CHROMA_BIN)
 

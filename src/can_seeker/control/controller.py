@@ -1,50 +1,20 @@
 """Stop-near-can controller: search for the can, drive to it, stop just in front of it.
 
-State machine (the ``can_stopper`` node feeds it detections and asks it for a command at a
-fixed rate):
+:class:`Controller` is pure (no rospy): the ``can_stopper`` node feeds it detections, odometry,
+range scans and the camera's view of the floor, and asks it for a command (linear m/s,
+angular rad/s in base_link) at a fixed rate or, in lockstep, once per frame. States: SEARCH,
+EXPLORE (frontier exploration, :mod:`can_seeker.control.navigation`), APPROACH, STOPPED, LOST
+and WANDER (``behaviour`` wander, no can). Geometry (REP-103): a detection gives the range from
+the camera to the can's near surface and the bearing; the gap is measured from the robot front
+(a circle of ``robot_radius`` about base_link) to that surface.
 
-- SEARCH: turn in place toward the side the can was last seen (left at start); after a full
-  turn (odom yaw) without the can, EXPLORE.
-- EXPLORE: drive on grid paths to the nearest floor the camera has not covered yet (frontier
-  exploration, :mod:`can_seeker.control.navigation`), but first to any small object standing
-  free that an all-round scan (a lidar) showed and the camera has not had in view
-  (:mod:`can_seeker.control.can_candidates`); at the goal, SEARCH again.
-- APPROACH: steer on the bearing, drive at a speed set by the gap error, slow down near the
-  target so the acceleration limit can stop it without overshoot, back up if too close; while
-  obstacles lie between the robot and the can, follow a grid path around them.
-- STOPPED: hold zero; drive again only when the can moves away beyond a hysteresis band;
-  when the can has not been seen (with a range) for ``vanish_timeout``, LOST: it was taken away.
-- Close up, below the view: once the can's base, where it was ranged last, is nearer than the
-  image's bottom row (plus ``BELOW_VIEW_MARGIN_M``), the camera sees at most its cut top (a
-  high camera pitched little sees nothing of it at the stop distance): APPROACH and STOPPED
-  then go on with that position, carried by odometry, instead of taking the unranged or
-  missing detections for a lost can.
-- LOST: the can left the view during APPROACH (or vanished while STOPPED): go back toward where
-  it was last seen (turn toward the side where it was without odometry); after
-  ``lost_timeout`` without it, SEARCH, and at once when the robot faces where it was and does
-  not see it there (``NOT_THERE_S``).
-- WANDER (``behaviour`` wander, no can): drive straight, turn away from obstacles ahead.
+Every command passes the safety layer (free travel along the command's arc through the scans,
+remembered obstacles and unknown floor) and the twist limits. A stale detection gives zero; a
+stale scan or odometry allows turning only; a non-finite command is an error, never a limit.
+:attr:`Controller.why` says why a command is zero or limited, and
+:meth:`Controller.missing_inputs` names the missing or stale inputs.
 
-With range scans (``scan_topics``: a camera scan, a lidar, or both), every command passes a
-safety layer: the speed, forward or backward, is capped by the free travel along the command's
-arc (each sensor's last scan plus remembered obstacles, the can excluded while it is the
-target), so the robot never drives into anything any sensor sensed. A stale scan of any sensor
-or stale odometry allows no driving, only turning.
-
-Whenever the command is zero or less than the state asks for, :attr:`Controller.why` says why
-(a stale or missing input, an obstacle ahead, the stop band, ...), and
-:meth:`Controller.missing_inputs` names the inputs that are missing or stale.
-
-A detection whose image is too old (``detection_timeout``, by the image's stamp, so a late old
-image is no news) gives a zero command whatever the state: a dead or lagging camera pipeline
-must never leave the robot driving. A command that is not finite is an error, never a limit.
-
-Geometry (REP-103, base_link on the floor below the axle midpoint): a detection gives the
-horizontal range from the camera to the can's near surface and the bearing from the camera.
-The can's centre is ``camera + (range + can_radius) * (cos, sin)(camera_yaw + bearing)``; the
-gap is the distance from the robot's front (a circle of ``robot_radius`` about base_link) to
-the can's near surface, and the controller steers the can's centre to straight ahead of
-base_link.
+Design, reasons and limits: docs/design/controller-and-safety.md.
 """
 import enum
 import math

@@ -1,39 +1,18 @@
 """Camera obstacle scan: the floor/obstacle mask of one image -> a planar laser scan.
 
-For every image column the lowest obstacle pixel (scanning up from the bottom through floor
-pixels) marks where the obstacle stands on the floor; the floor ray through that pixel's lower
-edge gives the point (camera_geometry.floor_point, vectorised here). The points are binned by
-their angle about the scan frame's origin (a frame on the floor, z up, e.g. base_link), each
-bin keeping its nearest point, as depthimage_to_laserscan does for depth images.
+For every image column the lowest obstacle pixel (scanning up from the bottom through floor)
+marks where an obstacle stands on the floor; the floor ray through that pixel's lower edge
+gives the point, binned by its angle about the scan frame's origin (a frame on the floor, z up,
+e.g. base_link), each bin keeping its nearest point, as depthimage_to_laserscan does.
 
-Conventions (REP-117): ranges are horizontal distances (m) from the scan frame's origin to
-the obstacle's base; +inf where the camera sees floor up to the scan's range_max (nothing in
-view); angles span the camera's view as seen from that origin, increasing to the left
-(REP-103). range_min is the nearest floor distance in view. An obstacle already at the
-image's bottom edge is reported at the bottom row's floor distance: it is at most that far.
+Conventions (REP-117, REP-103): ranges are horizontal distances (m) from the scan frame's origin
+to the obstacle's base, angles increase to the left. A scan vouches for free floor only where
+the image shows it: range_min is the nearest floor in view, range_max the range that vouches
+for the most floor (capped by ``max_range``), +inf means the image shows the floor free along
+the ray from range_min to range_max (within :data:`FREE_SPAN_TOLERANCE_M`), and NaN means not
+measured (a ray the image does not show, behind the can, "floor" above the horizon).
 
-A scan says more than any one ray: +inf claims the floor free along the ray from range_min to
-range_max. But the image's floor is a trapezoid seen from a camera ahead of the scan frame's
-origin, not a wedge about that origin: a ray near the scan's sides runs through the image's
-floor only for part of that span (a camera pitched down sees the floor beside its view only
-near it, one pitched up only far off), and the rest of it is floor nobody saw. So range_max is
-the range the most floor is vouched for at (capped by ``max_range``), and a ray without an
-obstacle reads +inf only where the image holds the floor along it from range_min to range_max
-(within :data:`FREE_SPAN_TOLERANCE_M`); elsewhere NaN (not measured). Only the image's
-inner part counts for that: an obstacle cut by the image's side or top edge shows a sliver
-there, which the floor model drops as noise (:func:`border_px`). A range says the floor
-before it is free too: an obstacle is reported only along a ray the image holds from
-range_min on (else NaN); one beyond range_max reads as no obstacle there.
-
-The target can is no obstacle; where it hides the floor right behind it and nothing nearer is
-seen, the range is NaN (not measured).
-
-No floor lies above the horizon. A column with no obstacle in range whose pixels above the
-horizon (by :data:`HORIZON_MARGIN_RAD`) the floor model takes for floor (see
-:func:`lowest_obstacle_rows`) shows something the model cannot tell from the floor, a wall
-of the floor's colour, standing anywhere along it: that column measures nothing either (NaN),
-so the floor along it is never vouched for as free. Only a camera that sees the horizon can
-tell.
+Design, reasons and limits: docs/design/floor-and-camera-scan.md.
 """
 import dataclasses
 import math

@@ -1,63 +1,17 @@
 """Which pixels are floor: an adaptive floor appearance model, and the tutorial's dark threshold.
 
-The adaptive model follows Ulrich & Nourbakhsh 2000 ("Appearance-Based Obstacle Detection with
-Monocular Color Vision"): a reference trapezoid at the bottom of the image, just in front of the
-robot, is assumed to be floor; its pixels fill a histogram of (colour, intensity), colour being
-a hue bin or "grey" for pixels too pale or dark to have a hue. A pixel whose colour or intensity
-is rare on the floor is an obstacle, whatever the floor's colour, so light obstacles on a dark
-floor are found as well as dark ones on a light floor, and a textured floor, whose histograms
-are wide, is tolerated. The paper judges colour and intensity apart; on a floor of two tiles a
-wall with the hue of one and the brightness of the other then passes as floor, so with
-``~min_joint_fraction`` a pixel is also an obstacle when the floor holds too little near its
-pair of them (neighbouring bins summed: the pair is sparser than either alone). The model
-adapts over frames with the reference pixels it classifies as floor; when too much of the
-reference area looks like an obstacle (something stands right in front of the robot) the frame
-does not update the model at all. An obstacle is therefore never learned as floor, and a floor
-colour never seen in the reference area stays an obstacle.
+:class:`FloorClassifier` takes BGR uint8 images of one camera in order and returns, per
+frame, a mono8 mask that is 255 on obstacle pixels. ``adaptive`` follows Ulrich & Nourbakhsh
+2000: a reference trapezoid at the bottom of the image is assumed to be floor and fills
+histograms of (colour, intensity) and of log chromaticity; a pixel the floor holds too little
+of is an obstacle. The model learns only from reference pixels it classifies as floor, and not
+from a frame whose reference area looks obstructed. Before classifying it undoes the lens's
+vignetting (:mod:`can_seeker.vision.vignetting`) and the white balance's drift
+(:mod:`can_seeker.vision.white_balance`). Blends of two floor colours at a tile seam, small
+regions and regions without an edge to the floor are no obstacle. ``dark``: every pixel
+darker than ``~dark_threshold`` is an obstacle.
 
-The baseline, ``dark``, is the tutorial's: every pixel darker than a grey level is an obstacle.
-Both remove speckles and keep the obstacle regions above a minimum area whose outline is an
-edge: a region whose outline (away from the image border) changes colour only gradually is
-shading of the floor (lens vignetting, light falling off, a soft shadow), not an object.
-
-Where two floor colours meet (a tile edge), the lens and the renderer's filtering blend them
-over a few pixels, and the blend is a colour neither tile has: a thin line of "obstacle" along
-every tile edge and a cross at every corner, which a scan reports as a wall on the floor. A
-pixel whose colour lies on the line between two floor colours found a few pixels from it (on
-either side of an edge, or on two sides of a corner) is such a blend (:func:`floor_blends`)
-and is no obstacle; it does not teach the model either. A thin object is kept: its colour is
-not a mix of the floor around it.
-
-A lens darkens the image corners: the reference area reaches into them, so the model would
-learn every brightness down to the corners' and take a darker wall of the floor's hue for
-floor. With ``~max_vignetting`` the fall-off is estimated from the images themselves
-(:mod:`can_seeker.vision.vignetting`) and undone before anything else.
-
-A camera's white balance drifts: every channel's gain wanders, so a pale floor tile's
-saturation crosses the line at which it has a hue within seconds, and the whole tile becomes an
-obstacle. Channel gains multiply, so in log chromaticity (log R/G, log B/G) a drift moves every
-colour of the image by the same shift. The adaptive model therefore also keeps the reference
-area's log-chromaticity histogram; each frame it follows the shift between the last frame and
-this one over the whole image (a drift moves every colour, driving onto another tile only those
-in front of the robot), holds it to the shift that lays the reference area back on the floor's
-colours nearby where that shows more of the frame as floor, and undoes it on the
-whole image before classifying (von Kries' chromatic adaptation, anchored on the floor;
-:mod:`can_seeker.vision.white_balance`). The shift follows a
-drift's pace and stays within ``~max_colour_shift``; a colour that differs from the floor's by
-more is never explained away as white balance.
-
-Pale colours have no hue the model can trust, so the paper's "grey" holds a cream wall, a white
-tile and a pale blue one alike, told apart by brightness only. With ``~min_chroma_fraction``
-the model also keeps the floor's log-chromaticity histogram (of 5x5 medians, so noise is
-small and a tile edge stays sharp) and a pixel whose chromaticity the floor holds too little
-of is an obstacle. It learns every reference pixel that is floor by colour and intensity, so
-the other tile of a checker is learned once the robot has it in front; it needs the
-white-balance drift undone (``~max_colour_shift``) on a camera whose white balance drifts.
-The chromaticity histogram is joint with intensity, and with ``~min_chroma_joint_fraction`` a
-pixel is also an obstacle when the floor holds too little of its chromaticity at its
-brightness: on a floor of a light and a mid tile, a wall with the light tile's chromaticity
-and the mid tile's brightness (the hue test's joint rule, at the chromaticity's finer
-resolution).
+Parameters: FLOOR_PARAMS. Design, reasons and limits: docs/design/floor-and-camera-scan.md.
 """
 from dataclasses import dataclass
 from typing import Optional

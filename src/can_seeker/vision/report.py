@@ -11,7 +11,7 @@ The shape score takes a can's silhouette for convex, which its red side is only 
 camera looks at it from the side: from above, the lid (not red) cuts an ellipse into the top
 of the red, up to a third of its height close below a steep camera, and the red's solidity
 and fill fall with it (0.85 and 0.74 at 0.34 m below a camera 0.33 m up pitched 35 deg down,
-where a silhouette scores 0.27 and the robot lost the can at its stop point). With the floor
+where a silhouette scores 0.27, below the controller's threshold). With the floor
 range known, a whole blob's solidity and fill are therefore judged against those of the red
 side an upright can shows at that range and bearing (its rims projected, the lid cut out while
 the camera is above it; see :func:`can_side_measures`).

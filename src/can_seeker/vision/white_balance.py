@@ -1,39 +1,16 @@
 """Undoing a camera's white-balance drift against a surface known to be in view (the floor).
 
-A white-balance change multiplies each channel by a gain, so in log chromaticity
-(log R/G, log B/G) it moves every colour of the image by one and the same shift (von Kries'
-model of chromatic adaptation). :class:`WhiteBalanceLock` keeps a histogram of the reference
-pixels' log chromaticity and, each frame, finds the shift that lays the current reference
-pixels back on it by cross-correlating the two histograms. A floor of several colours moves as
-one, so the shift does not depend on the mix of its colours in view, and an object covering
-part of the reference area adds mass away from the peak without moving it much (the floor
-classifier also feeds it only the pixels that are floor). The shift may change only as fast as a
-drift does, never by more than a bound, and is let go toward none, at the pace a camera's own
-white balance pulls its drift back, while nothing in view measures it: a lost lock does not
-stay lost, and a surface whose colour differs from the floor's by more than a frame's drift is
-never explained away as white balance.
+A white-balance change multiplies each channel by a gain, so in log chromaticity (log R/G,
+log B/G) it moves every colour of the image by one shift (von Kries). :class:`WhiteBalanceLock`
+keeps a histogram of the reference pixels' log chromaticity and, each frame, predicts the shift
+from the last one plus the step between two frames, measured pixel by pixel on the pixels that
+still show the same surface; the floor corrects that prediction only by a correlation peak of
+its own within ANCHOR_BINS, and, given the floor model's verdict, only where the correction
+shows at least MIN_FLOOR_GAIN more of the frame as floor. The shift moves at most a drift's
+pace, stays within a bound, and relaxes toward none while nothing measures it.
+:func:`undo_shift` applies the inverse gains to an image.
 
-The floor alone cannot tell a drift from the robot driving onto a tile of a slightly other
-colour: both move the reference area's colours. A drift moves every colour of the image at
-once, a new tile only those in front of the robot, and two frames in a row show nearly the same
-scene. Given the whole image, the lock therefore predicts the shift from the last one plus
-the step between the two frames, and lets the floor correct that prediction only by a peak of
-its own within ANCHOR_BINS of it. The step is measured pixel by pixel, not on histograms: a
-robot turning over tiles of two near colours changes their mix in view, which moves a
-histogram's peak as a drift would, but a pixel that still shows the same surface (its
-brightness changed only as the whole frame's did) changes its chromaticity only by the drift,
-and the mean of the middle half of those pixels' changes is the drift's step. A floor that
-would pull the shift farther than ANCHOR_BINS (it lays a new tile onto a known one) corrects
-nothing. A new tile can
-still lie within that reach of a known one; its peak then pulls the shift onto it, and the
-known floor elsewhere in view turns to obstacle under the new correction. Given the
-classifier's verdict (the share of the frame that is floor under a shift), the lock takes the
-floor's correction only where it shows more of the frame as floor than the prediction does, by
-MIN_FLOOR_GAIN: a drift the steps missed turns floor to obstacle until it is undone, so its
-correction grows that share; a tile taken for a drift shrinks it; and near tiles whose mix in
-the reference area pulls the peak by a fraction of a bin change nothing the floor model can
-tell, so that pull (which the model, learning the corrected pixels, would build on frame after
-frame) moves nothing.
+Design, reasons and limits: docs/design/floor-and-camera-scan.md.
 """
 from typing import Callable, Optional
 
