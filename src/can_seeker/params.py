@@ -48,7 +48,7 @@ class Param:
 
     @property
     def description(self) -> str:
-        """The doc, with the safe side of a safety bound (README table, launch arg doc)."""
+        """The doc, with the safe side of a safety bound (the launch files' arg docs)."""
         if self.safer is None:
             return self.doc
         return '%s; safety bound, %s is safer: an invalid value stops the node' % (
