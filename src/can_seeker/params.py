@@ -2,7 +2,8 @@
 
 Every node lists its parameters once as a tuple of :class:`Param` in its pure module; the node
 reads them with :func:`read_params`, the launch files mirror the defaults as ``<arg>`` and the
-README table is printed by :func:`markdown_table` (a unit test keeps all three in step).
+table of docs/parameters.md is printed by :func:`markdown_table` (unit tests keep all three in
+step).
 A bad value (wrong type, NaN, out of range, not a choice) is reported and replaced by the
 default, so a typo in a launch file never takes a node down, except for a safety bound (a speed
 or acceleration limit, a clearance, a watchdog timeout; one with a declared ``safer`` side): no
@@ -10,6 +11,7 @@ default is safe in place of what the user asked for (a crawl must not become ful
 :func:`read_params` refuses the start.
 """
 import math
+import re
 from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Any, Callable, Optional, Sequence, Tuple
@@ -46,7 +48,7 @@ class Param:
 
     @property
     def description(self) -> str:
-        """The doc, with the safe side of a safety bound (README table, launch arg doc)."""
+        """The doc, with the safe side of a safety bound (the launch files' arg docs)."""
         if self.safer is None:
             return self.doc
         return '%s; safety bound, %s is safer: an invalid value stops the node' % (
@@ -121,11 +123,49 @@ def launch_value(value) -> str:
     return str(value)
 
 
+UNIT_SUFFIXES = (('_mps', 'm/s'), ('_deg', 'deg'), ('_hz', 'Hz'), ('_px', 'px'), ('_m', 'm'),
+                 ('_s', 's'))
+"""Name endings that state a parameter's unit (``camera_latency_s``), longest first."""
+DOC_UNITS = ('m', 's', 'Hz', 'deg', 'px', 'K', '1', '1/s', 'm/s', 'rad/s', 'm/s^2', 'rad/s^2',
+             'm/rad')
+"""Units a doc may state in parentheses, before any comma or semicolon: ``(Hz, sim time)``."""
+DOC_UNIT = re.compile(r'\(([^(),;]+)[,;)]')
+
+
+def unit_of(spec: Param) -> str:
+    """The unit the parameter's name ends in, else the first of :data:`DOC_UNITS` its doc states
+    in parentheses, else '' (the reference names no unit the declaration does not state)."""
+    for suffix, unit in UNIT_SUFFIXES:
+        if spec.name.endswith(suffix):
+            return unit
+    for match in DOC_UNIT.finditer(spec.doc):
+        if match.group(1).strip() in DOC_UNITS:
+            return match.group(1).strip()
+    return ''
+
+
+def range_text(spec: Param) -> str:
+    """The accepted values: ``min .. max`` (either side open), or the choices."""
+    if spec.choices is not None:
+        return ', '.join('`%s`' % choice for choice in spec.choices)
+    if spec.minimum is None and spec.maximum is None:
+        return ''
+    return '%s .. %s' % ('' if spec.minimum is None else launch_value(spec.minimum),
+                         '' if spec.maximum is None else launch_value(spec.maximum))
+
+
+def _cell(text: str) -> str:
+    return text.replace('|', '\\|')
+
+
 def markdown_table(specs: Sequence[Param]) -> str:
-    """The README table of ``specs``: name, default, meaning."""
-    rows = ['| parameter | default | meaning |', '|---|---|---|']
+    """The reference table of ``specs``: name, type, default, accepted range, unit, the safe side
+    of a safety bound, and the doc."""
+    rows = ['| parameter | type | default | range | unit | safe side | meaning |',
+            '|---|---|---|---|---|---|---|']
     for spec in specs:
         default = launch_value(spec.default)
-        rows.append('| `~%s` | `%s` | %s |' % (spec.name, default if default else '""',
-                                               spec.description))
+        rows.append('| `~%s` | %s | `%s` | %s | %s | %s | %s |' % (
+            spec.name, type(spec.default).__name__, _cell(default) if default else '""',
+            range_text(spec), unit_of(spec), spec.safer or '', _cell(spec.doc)))
     return '\n'.join(rows)

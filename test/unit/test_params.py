@@ -4,7 +4,7 @@ import math
 import pytest
 
 from can_seeker.params import (Param, UnsafeParamError, defaults, launch_value, markdown_table,
-                               read_params)
+                               range_text, read_params, unit_of)
 
 SPECS = (
     Param('rate', 20.0, 'loop rate (Hz)', minimum=0.1, maximum=1000.0),
@@ -53,8 +53,29 @@ def test_nan_message_names_the_problem():
 def test_launch_value_and_markdown_table():
     assert launch_value(True) == 'true' and launch_value(0.5) == '0.5' and launch_value(7) == '7'
     table = markdown_table(SPECS)
-    assert '| `~gui` | `false` | open the GUI |' in table
+    assert '| `~gui` | bool | `false` |  |  |  | open the GUI |' in table
+    assert '| `~rate` | float | `20.0` | 0.1 .. 1000.0 | Hz |  | loop rate (Hz) |' in table
     assert table.count('\n') == len(SPECS) + 1
+
+
+def test_range_text_of_bounds_and_choices():
+    assert range_text(SPECS[1]) == '1 .. '
+    assert range_text(SPECS[3]) == '`auto`, `egl`, `tiny`'
+    assert range_text(SPECS[2]) == ''
+
+
+@pytest.mark.parametrize('name,doc,unit', [
+    ('camera_latency_s', 'latency (frames)', 's'),
+    ('motor_deadband_mps', 'deadband', 'm/s'),
+    ('fov_deg', 'field of view', 'deg'),
+    ('camera_rate', 'frame rate (Hz, sim time)', 'Hz'),
+    ('track_gate', 'how far (m; 0 = no hysteresis)', 'm'),
+    ('seam', 'a seam (REP-103) of the frame (m)', 'm'),
+    ('dark_threshold', 'grey level (0-255)', ''),
+    ('odom_noise', 'error (m per square root of m)', ''),
+])
+def test_the_unit_comes_from_the_name_or_the_doc(name, doc, unit):
+    assert unit_of(Param(name, 1.0, doc)) == unit
 
 
 def test_defaults_by_name():
@@ -99,7 +120,7 @@ def test_the_safe_side_is_documented():
     assert 'lower is safer' in SAFETY_SPECS[0].description
     assert 'higher is safer' in SAFETY_SPECS[1].description
     assert SAFETY_SPECS[2].description == 'gain (1/s)'
-    assert SAFETY_SPECS[0].description in markdown_table(SAFETY_SPECS)
+    assert '| lower | ' in markdown_table(SAFETY_SPECS).splitlines()[2]
 
 
 @pytest.mark.parametrize('kwargs', [

@@ -12,7 +12,7 @@ last trial, so start-up is left out but the new worlds and resets between trials
 many times faster than real time the loop would run on one core of its own (wall time depends
 on the machine's other load; CPU time much less so). ``--py-spy DIR`` samples every Python
 process of the loop with py-spy (if on PATH) over the same window and writes a flame graph per
-process.
+process. ``--result FILE`` writes the figures as a result file for docs/results/.
 """
 import argparse
 import os
@@ -26,6 +26,7 @@ import time
 
 import rospy
 
+from can_seeker.evaluation.result_files import command_line, result_record, write_result
 from can_seeker.evaluation.trials import Criteria
 from can_seeker.tools.closed_loop import LIVE_TIMEOUT_S, LaunchedSystem, TrialRunner
 from can_seeker.tools.evaluate import launch_args, parse_args
@@ -119,15 +120,22 @@ def sample(processes):
     return times
 
 
-def breakdown_table(sim_s, before, after):
-    """Markdown table: CPU s and CPU ms per sim s of each process, its share, the total, and
-    sim s per CPU s."""
+def cpu_used(before, after):
+    """{process: CPU s between the samples} in the printed order: the loop's processes, the
+    evaluator, then any others by name."""
     used = {name: after[name] - before[name] for name in after if name in before}
     order = ([name for name in LOOP_PROCESSES if name in used] + [EVALUATOR]
              + sorted(name for name in used if name not in LOOP_PROCESSES + (EVALUATOR,)))
+    return {name: used[name] for name in order}
+
+
+def breakdown_table(sim_s, before, after):
+    """Markdown table: CPU s and CPU ms per sim s of each process, its share, the total, and
+    sim s per CPU s."""
+    used = cpu_used(before, after)
     total_s = sum(used.values())
     lines = ['| process | CPU s | CPU ms per sim s | share |', '|---|---|---|---|']
-    for name in order:
+    for name in used:
         lines.append('| %s | %.2f | %.0f | %.1f %% |' % (name, used[name], 1000.0 * used[name]
                                                         / sim_s, 100.0 * used[name] / total_s))
     lines.append('| **total** | **%.2f** | **%.0f** | 100 %% |' % (total_s,
@@ -211,8 +219,10 @@ def main(argv=None):
     parser.add_argument('--py-spy', metavar='DIR', help='write py-spy\'s collapsed stacks of '
                         'each Python process of the loop to DIR/<process>.txt')
     parser.add_argument('--log', help='roslaunch output (default: a temporary file)')
-    args, evaluate_argv = parser.parse_known_args(rospy.myargv(argv if argv is not None
-                                                               else sys.argv)[1:])
+    parser.add_argument('--result', metavar='FILE', help='write the figures with this command, '
+                        'the commit and the machine as a result file (docs/results/NAME.json)')
+    command_argv = rospy.myargv(argv if argv is not None else sys.argv)[1:]
+    args, evaluate_argv = parser.parse_known_args(command_argv)
     options = parse_args(['--world', 'room'] + evaluate_argv + ['--trials', str(args.trials),
                                                                 '--seed', str(args.seed)])
     if not options.lockstep:
@@ -257,3 +267,14 @@ def main(argv=None):
           % (sim_s / total_s, sim_s, total_s))
     if profiler is not None:
         print('py-spy stacks in %s' % args.py_spy)
+    if args.result:
+        used = cpu_used(before, after)
+        write_result(args.result, result_record('bench_loop', command_line('bench_loop',
+                                                                           command_argv), {
+            'trials': len(results), 'successes': sum(result.success for result in results),
+            'sim_s': sim_s, 'wall_s': wall_s, 'cpu_s_total': total_s,
+            'cpu_ms_per_sim_s': {name: 1000.0 * cpu_s / sim_s for name, cpu_s in used.items()},
+            'cpu_ms_per_sim_s_total': 1000.0 * total_s / sim_s,
+            'real_time_per_core': sim_s / total_s, 'real_time_wall': sim_s / wall_s,
+            'load_average_before': load_before[0], 'load_average_after': load_after[0]}))
+        print('result written to %s' % args.result)

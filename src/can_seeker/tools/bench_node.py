@@ -10,7 +10,8 @@ with glibc's default allocator (a plain rospy node). Each process's CPU time
 (utime + stime of /proc/<pid>/stat, all threads) over the frames it answered (its output
 messages counted) gives milliseconds per frame; a chain's is the sum of its processes'. The run
 is repeated and the load average printed: on 2 shared cores wall-clock latency says little,
-CPU per frame much more (frames dropped under load are not counted).
+CPU per frame much more (frames dropped under load are not counted). ``--result FILE`` writes
+the medians as a result file for docs/results/.
 """
 import argparse
 import os
@@ -31,6 +32,7 @@ from std_msgs.msg import Empty
 from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
+from can_seeker.evaluation.result_files import command_line, result_record, write_result
 from can_seeker.tools.bench_vision import floor_scene
 
 IMAGE_TOPIC = '/bench/image_raw'
@@ -183,7 +185,10 @@ def main(argv=None):
     parser.add_argument('--frames', type=int, default=300, help='frames per window (default 300)')
     parser.add_argument('--repeats', type=int, default=3, help='windows (default 3)')
     parser.add_argument('--rate', type=float, default=30.0, help='frame rate (Hz, default 30)')
-    args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    parser.add_argument('--result', metavar='FILE', help='write the medians with this command, '
+                        'the commit and the machine as a result file (docs/results/NAME.json)')
+    command_argv = sys.argv[1:] if argv is None else argv
+    args = parser.parse_args(command_argv)
     with_opencv_apps = os.path.isfile(os.path.join(OPENCV_APPS_DIR, 'hsv_color_filter'))
     if not with_opencv_apps:
         print('bench_node: opencv_apps is not installed (Debian: ros-opencv-apps '
@@ -250,7 +255,15 @@ def main(argv=None):
         if with_opencv_apps:
             print('all outputs / opencv_apps chain: %.2f (target <= 0.6)' % (
                 median['image_converter, all outputs'] / median['opencv_apps chain (3 nodes)']))
-        print('load average after: %s' % (os.getloadavg(),))
+        load_after = os.getloadavg()
+        print('load average after: %s' % (load_after,))
+        if args.result:
+            write_result(args.result, result_record('bench_node', command_line('bench_node',
+                                                                               command_argv), {
+                'ms_per_frame': median, 'windows': len(windows),
+                'windows_without_drops': len(clean), 'frames_per_window': args.frames,
+                'rate_hz': args.rate, 'load_average_after': load_after[0]}))
+            print('result written to %s' % args.result)
         rospy.signal_shutdown('benchmark done')
     finally:
         processes = [process for entries in nodes.values() for process, _ in entries]

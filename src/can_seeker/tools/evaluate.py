@@ -11,6 +11,8 @@ with ``--randomize-mount`` the camera's height (0.15-0.35 m) and pitch (15-35 de
 ``--scan-topics "/camera_scan /scan"`` lets can_stopper fuse the camera scan and the lidar.
 Prints a progress bar, then a summary table; ``--json FILE`` writes every trial and the summary,
 again after each finished trial, and ``--resume`` runs only the trials that file is missing.
+``--result FILE`` writes the summary as a result file for docs/results/ (the command, the code's
+commit, the machine; see :mod:`can_seeker.evaluation.result_files`) once every trial has run.
 Exits 1 when a trial failed.
 
 Scale out (``can_seeker.tools.engine``): every trial is a Dask task; ``--jobs N`` runs them on a
@@ -42,6 +44,7 @@ from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
 from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
                                          TrialLedger, compare_runs, write_json_atomically)
+from can_seeker.evaluation.result_files import command_line, result_record, write_result
 from can_seeker.evaluation.sweep import (override_arg, parse_sweep, plot_sweep,
                                          setting_label, sweep_grid, sweep_table)
 from can_seeker.evaluation.trials import Criteria, json_ready, summary_table
@@ -137,6 +140,9 @@ def parse_args(argv):
                                     REPEAT_YAW_TOLERANCE_DEG))
     parser.add_argument('--json', metavar='FILE',
                         help='write the results as JSON, again after every finished trial')
+    parser.add_argument('--result', metavar='FILE',
+                        help='write the summary with this command, the commit and the machine '
+                        'as a result file (docs/results/NAME.json) once every trial has run')
     parser.add_argument('--resume', action='store_true',
                         help='run only the trials missing from --json FILE (same settings; '
                         '--trials may grow)')
@@ -152,6 +158,8 @@ def parse_args(argv):
         parser.error('--jobs must be at least 1')
     if args.resume and not args.json:
         parser.error('--resume needs --json FILE')
+    if args.result and args.sweep:
+        parser.error('--result records one evaluation, not a --sweep')
     if args.resume and (args.sweep or args.repeat_check):
         parser.error('--resume continues one evaluation, not a --sweep or --repeat-check')
     return args
@@ -283,7 +291,8 @@ def run_sweep(args, engine):
 
 
 def main():
-    args = parse_args(rospy.myargv()[1:])
+    argv = rospy.myargv()[1:]
+    args = parse_args(argv)
     if args.sweep:
         with Engine(args.jobs, args.cluster) as engine:
             run_sweep(args, engine)
@@ -330,6 +339,14 @@ def main():
             record['repeat_check'] = repeat
         write_json_atomically(args.json, record)
         print('results written to %s' % args.json)
+    if args.result:
+        if interrupted or not_run:
+            print('evaluate: not every trial ran; no result written to %s' % args.result,
+                  file=sys.stderr)
+        else:
+            write_result(args.result, result_record('evaluate', command_line('evaluate', argv),
+                                                    json_ready(summary)))
+            print('result written to %s' % args.result)
     if interrupted:
         sys.exit(130)
     ok = bool(results) and not not_run and summary['successes'] == summary['trials']
