@@ -49,6 +49,7 @@ from can_seeker.evaluation.cpu_features import (DISABLE_VARIABLE, NOTHING_TO_DIS
 from can_seeker.evaluation.sweep import (override_arg, parse_sweep, plot_sweep,
                                          setting_label, sweep_grid, sweep_table)
 from can_seeker.evaluation.trials import Criteria, json_ready, summary_table
+from can_seeker.output_paths import default_output_dir
 
 SIM = defaults(SIM_PARAMS)
 CONTROL = defaults(CONTROL_PARAMS)
@@ -114,7 +115,7 @@ def parse_args(argv):
                         metavar='NODE/PARAM=V1,V2,...',
                         help='evaluate the same seeds at every value (repeatable: every '
                         'combination); writes a table and a plot to --sweep-output')
-    parser.add_argument('--sweep-output', default='sweep', metavar='DIR',
+    parser.add_argument('--sweep-output', default=default_output_dir('sweep'), metavar='DIR',
                         help='folder for sweep.md, sweep.json and sweep.png')
     parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
                         help='sim time allowed to reach STOPPED (s)')
