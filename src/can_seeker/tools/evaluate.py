@@ -267,13 +267,13 @@ def cpu_features_check(args, engine, ledger):
     disabled = {address: describe(features) for address, features
                 in sorted(engine.client.run(numpy_features_to_disable).items())}
     shown = sorted(set(disabled.values()))
+    if shown == [NOTHING_TO_DISABLE]:
+        print('\ncpu-features check: %s on any worker; nothing to compare' % NOTHING_TO_DISABLE)
+        return None, []
     print('\ncpu-features check: the second run\'s nodes run with %s'
           % (shown[0] if len(shown) == 1 else '; '.join(
               '%s on %s' % (text, address) for address, text in disabled.items())),
           file=sys.stderr)
-    if shown == [NOTHING_TO_DISABLE]:
-        print('\ncpu-features check: %s on any worker; nothing to compare' % NOTHING_TO_DISABLE)
-        return None, []
     narrow = TrialLedger(settings(args))
     not_run = evaluate(args, engine, narrow, wide_kernels=False,
                        description='trials, no wide kernels')
