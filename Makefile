@@ -2,10 +2,11 @@
 SHELL := /bin/bash
 .DEFAULT_GOAL := help
 .PHONY: help setup test demo teleop shell bench clean
+MAKE_START_S := $(shell date +%s)
 
 help:
 	@echo "make setup  - install Debian packages, the venv and build the catkin workspace (idempotent)"
-	@echo "make test   - setup, then unit tests, catkin_lint and every rostest; prints 'N passed, N failed'"
+	@echo "make test   - setup, then unit tests, catkin_lint and every rostest; prints 'N passed, N failed' and the whole time"
 	@echo "make demo   - setup, then the headless closed-loop run (SEED=n to repeat one)"
 	@echo "make teleop - setup, then drive the simulated robot by keyboard with image windows (ARGS=\"gui:=true\")"
 	@echo "make shell  - setup, then a terminal where roslaunch/rosrun/rostopic/rosbag work"
@@ -16,7 +17,7 @@ setup:
 	@bash tools/setup.sh
 
 test: setup
-	@bash tools/run_tests.sh
+	@CAN_SEEKER_TEST_START_S=$(MAKE_START_S) bash tools/run_tests.sh
 
 demo: setup
 	@bash tools/with_env.sh rosrun can_seeker demo $(if $(SEED),--seed $(SEED))

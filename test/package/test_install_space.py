@@ -2,7 +2,8 @@
 
 A copy of this package is built with `catkin_make install` in a temporary workspace (in an
 environment holding only the system's ROS), then its source, build and devel spaces are deleted.
-With only install/setup.bash sourced: every file is installed, every module, script and launch
+With only install/setup.bash sourced: every file of the package's source (the files git tracks)
+is installed, every module, script and launch
 file resolves into the install space, `roslaunch can_seeker demo.launch` finds the can and stops
 in front of it, and `rosrun can_seeker evaluate --trials 2` passes.
 """
@@ -116,6 +117,33 @@ def install_space():
         shutil.rmtree(str(root), ignore_errors=True)
 
 
+def source_files():
+    """The package's source files, relative to REPO: those git tracks (and the work tree still
+    has), or every file under REPO's folders but dot-folders when it is not a git checkout;
+    what else lies there (outputs, caches) is not the package."""
+    try:
+        listed = subprocess.run(['git', '-C', str(REPO), 'ls-files', '-z'], check=True,
+                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL).stdout
+    except (OSError, subprocess.CalledProcessError):
+        listed = b''
+    tracked = [pathlib.PurePath(name) for name in listed.decode().split('\0')
+               if name and (REPO / name).is_file()]
+    if tracked:
+        return tracked
+    return [path.relative_to(REPO) for path in REPO.rglob('*') if path.is_file()
+            and not any(part.startswith('.') for part in path.relative_to(REPO).parts)]
+
+
+def source_files_in(folder, suffix=''):
+    """The source files under the top-level ``folder`` that end with ``suffix``."""
+    return [path for path in source_files()
+            if path.parts[0] == folder and len(path.parts) > 1 and path.name.endswith(suffix)]
+
+
+def package_scripts():
+    return sorted(path.name for path in source_files_in('scripts') if len(path.parts) == 2)
+
+
 def is_inside(path, folder):
     return os.path.realpath(str(path)).startswith(os.path.realpath(str(folder)) + os.sep)
 
@@ -124,23 +152,24 @@ def test_every_file_is_installed(install_space):
     python_roots = list(install_space.prefix.glob('lib/python3*/*-packages'))
     assert len(python_roots) == 1, python_roots
     python_package = python_roots[0] / PACKAGE
+    files = source_files()
     wanted = [install_space.share / 'package.xml']
-    for folder in REPO.iterdir():
-        if folder.is_dir() and not folder.name.startswith('.') \
-                and folder.name not in NOT_INSTALLED_DIRS:
-            wanted += [install_space.share / f.relative_to(REPO)
-                       for f in folder.rglob('*') if f.is_file()]
-    wanted += [install_space.share / 'msg' / f.name for f in (REPO / 'msg').glob('*.msg')]
-    wanted += [install_space.share / 'srv' / f.name for f in (REPO / 'srv').glob('*.srv')]
-    wanted += [python_package / f.relative_to(REPO / 'src' / PACKAGE)
-               for f in (REPO / 'src' / PACKAGE).rglob('*.py')]
-    wanted += [python_package / 'msg' / ('_%s.py' % f.stem) for f in (REPO / 'msg').glob('*.msg')]
-    wanted += [python_package / 'srv' / ('_%s.py' % f.stem) for f in (REPO / 'srv').glob('*.srv')]
+    wanted += [install_space.share / f for f in files
+               if len(f.parts) > 1 and not f.parts[0].startswith('.')
+               and f.parts[0] not in NOT_INSTALLED_DIRS]
+    messages = source_files_in('msg', '.msg')
+    services = source_files_in('srv', '.srv')
+    wanted += [install_space.share / 'msg' / f.name for f in messages]
+    wanted += [install_space.share / 'srv' / f.name for f in services]
+    wanted += [python_package / f.relative_to('src', PACKAGE) for f in source_files_in('src', '.py')
+               if f.parts[:2] == ('src', PACKAGE)]
+    wanted += [python_package / 'msg' / ('_%s.py' % f.stem) for f in messages]
+    wanted += [python_package / 'srv' / ('_%s.py' % f.stem) for f in services]
     wanted += [python_package / 'cfg' / ('%sConfig.py' % f.stem)
-               for f in (REPO / 'cfg').glob('*.cfg')]
+               for f in source_files_in('cfg', '.cfg')]
     assert any(p.suffix == '.launch' for p in wanted)
     assert [str(p) for p in wanted if not p.is_file()] == []
-    scripts = sorted(f.name for f in (REPO / 'scripts').iterdir() if f.is_file())
+    scripts = package_scripts()
     installed = install_space.prefix / 'lib' / PACKAGE
     assert [s for s in scripts if not os.access(str(installed / s), os.X_OK)] == []
 
@@ -177,7 +206,7 @@ def test_modules_scripts_and_launch_files_come_from_the_install_space(install_sp
             if not is_inside(path, install_space.prefix)} == {}
     result = install_space.run(['rospack', 'find', PACKAGE], 60)
     assert result.stdout.strip() == str(install_space.share)
-    for script in sorted(f.name for f in (REPO / 'scripts').iterdir() if f.is_file()):
+    for script in package_scripts():
         result = install_space.run(['rosrun', '--prefix', 'echo', PACKAGE, script], 60)
         assert result.stdout.strip() == str(install_space.prefix / 'lib' / PACKAGE / script)
 

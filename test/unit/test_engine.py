@@ -1,6 +1,7 @@
 """What identifies a worker's ROS system: trials with equal launch arguments, parameters, time
-limit and run share systems; any difference needs systems of its own; where logs go does not
-matter."""
+limit, run and kernels share systems; any difference needs systems of its own; where logs go
+does not matter."""
+from can_seeker.evaluation.cpu_features import narrow_kernel_environment, numpy_features_to_disable
 from can_seeker.tools.engine import SystemSpec
 
 LAUNCH_ARGS = {'world': 'room', 'lockstep': 'true', 'width': 320}
@@ -19,5 +20,12 @@ def test_another_setting_or_run_is_another_system():
     others = [SystemSpec.of(dict(LAUNCH_ARGS, width=640), {}, 90.0),
               SystemSpec.of(LAUNCH_ARGS, {'/sim/camera_read_noise': 4}, 90.0),
               SystemSpec.of(LAUNCH_ARGS, {}, 60.0),
-              SystemSpec.of(LAUNCH_ARGS, {}, 90.0, run=1)]
-    assert len({spec.key() for spec in others} | {base.key()}) == 5
+              SystemSpec.of(LAUNCH_ARGS, {}, 90.0, run=1),
+              SystemSpec.of(LAUNCH_ARGS, {}, 90.0, wide_kernels=False)]
+    assert len({spec.key() for spec in others} | {base.key()}) == 6
+
+
+def test_only_a_system_without_wide_kernels_adds_numpy_features_to_its_environment():
+    assert SystemSpec.of(LAUNCH_ARGS, {}, 90.0).environment() == {}
+    narrow = SystemSpec.of(LAUNCH_ARGS, {}, 90.0, wide_kernels=False).environment()
+    assert narrow == narrow_kernel_environment(numpy_features_to_disable())

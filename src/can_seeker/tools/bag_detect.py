@@ -1,8 +1,10 @@
 """bag_detect: the image_converter pipeline over a bag, offline (rosbag API, no master).
 
-Writes one CSV row per image (stamp, found, centroid, area, bbox, range, bearing) and
-optionally an MP4 of the annotated images. Camera pose from the bag's TF (base frame <- image
-frame), else from the camera mount parameters, exactly as the node does. The image topic may
+Writes one CSV row per image (stamp, found, centroid, area, bbox, range, bearing; by default
+to ``bag_detect/<bag name>.csv`` in the workspace's or the ROS home, see
+:mod:`can_seeker.output_paths`) and optionally an MP4 of the annotated images. Camera pose from
+the bag's TF (base frame <- image frame), else from the camera mount parameters, exactly as the
+node does. The image topic may
 hold sensor_msgs/Image or sensor_msgs/CompressedImage (jpeg, png); the decoder follows the
 topic's recorded type.
 """
@@ -20,6 +22,7 @@ import tf2_ros
 from tqdm import tqdm
 
 from can_seeker.camera_geometry import intrinsics_from_k
+from can_seeker.output_paths import default_output_dir
 from can_seeker.vision import report
 from can_seeker.vision.report import CanModel, can_report, fallback_pose
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
@@ -35,7 +38,8 @@ CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', '
 def parse_args(argv):
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('bag', help='input bag file')
-    parser.add_argument('--csv', help='output CSV (default: the bag name with .csv)')
+    parser.add_argument('--csv', help='output CSV (default: the bag\'s name with .csv in %s)'
+                        % default_output_dir('bag_detect'))
     parser.add_argument('--video', help='also write the annotated images to this MP4 file')
     parser.add_argument('--image-topic',
                         help='sensor_msgs/Image or CompressedImage topic (default: %s, else '
@@ -195,7 +199,9 @@ class BagDetector:
 def main(argv=None):
     args = parse_args(rospy.myargv(sys.argv)[1:] if argv is None else argv)
     config = read_overrides(args.param)
-    csv_path = args.csv or os.path.splitext(args.bag)[0] + '.csv'
+    csv_path = args.csv or os.path.join(default_output_dir('bag_detect'), os.path.splitext(
+        os.path.basename(args.bag))[0] + '.csv')
+    os.makedirs(os.path.dirname(os.path.abspath(csv_path)), exist_ok=True)
     with rosbag.Bag(args.bag) as bag:
         topic_types = {topic: info.msg_type
                        for topic, info in bag.get_type_and_topic_info().topics.items()}

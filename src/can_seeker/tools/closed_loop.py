@@ -86,14 +86,16 @@ class LaunchedSystem:
     the launch) and its parameters are set, so ``rospy.init_node`` sees ``/use_sim_time``; on
     exit the whole launch (its process group) is stopped; a guard process stops it too if
     this process is killed first. ``params`` (``/node/param`` -> value) override any node
-    parameter, also those demo.launch has no argument for.
+    parameter, also those demo.launch has no argument for. ``env``: environment variables
+    added to this process's for roslaunch and every node it starts.
     """
 
-    def __init__(self, launch_args, log_path, startup_timeout_s=60.0, params=None):
+    def __init__(self, launch_args, log_path, startup_timeout_s=60.0, params=None, env=None):
         self.launch_args = dict(launch_args)
         self.log_path = log_path
         self.startup_timeout_s = startup_timeout_s
         self.params = dict(params or {})
+        self.env = dict(env or {})
         self.process = None
         self.guard = None
         self.log = None
@@ -112,7 +114,8 @@ class LaunchedSystem:
         command += ['%s:=%s' % item for item in sorted(self.launch_args.items())]
         self.log = open(self.log_path, 'w')
         self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT,
-                                        env=dict(os.environ), start_new_session=True)
+                                        env=dict(os.environ, **self.env),
+                                        start_new_session=True)
         self.guard = subprocess.Popen(['sh', '-c', LAUNCH_GUARD, 'launch_guard', str(os.getpid()),
                                        str(self.process.pid)], start_new_session=True)
         deadline = time.monotonic() + self.startup_timeout_s

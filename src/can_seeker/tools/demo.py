@@ -3,9 +3,11 @@
 Starts the simulator, image_converter, obstacle_scan and can_stopper under their own master
 (demo.launch on a free port), builds the world of ``--seed`` (printed; pass it again to repeat
 the run: by default a room with obstacles and the can anywhere in it), waits until the robot has
-stopped or the time limit, then writes to ``--output``: ``demo.mp4`` (annotated camera next to a
-top-down view of the room, the floor covered so far, the path and the can), ``trajectory.png``
-and ``summary.json``, and prints the summary. Times are sim time.
+stopped or the time limit, then writes to ``--output`` (by default ``demo_output`` in the
+workspace's or the ROS home, see :mod:`can_seeker.output_paths`): ``demo.mp4`` (annotated camera
+next to a top-down view of the room, the floor covered so far, the path and the can),
+``trajectory.png``, ``summary.json`` and ``index.html`` (the three side by side, for a browser),
+and prints the summary and the folder. Times are sim time.
 """
 import argparse
 import json
@@ -33,6 +35,8 @@ from can_seeker.evaluation.topdown import (CoverageMap, TopDownView, draw_topdow
                                            plot_trajectory, side_by_side)
 from can_seeker.evaluation.sweep import override_arg
 from can_seeker.evaluation.trials import Criteria, json_ready
+from can_seeker.evaluation.demo_page import write_demo_page
+from can_seeker.output_paths import default_output_dir
 from can_seeker.evaluation.video import Mp4Writer
 
 VIDEO_HEIGHT_PX = 480
@@ -47,7 +51,8 @@ def parse_args(argv):
                                      formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     parser.add_argument('--seed', type=int, default=None,
                         help='seed of the can placement (default: a random one, printed)')
-    parser.add_argument('--output', default='demo_output', help='output directory')
+    parser.add_argument('--output', default=default_output_dir('demo_output'),
+                        help='output directory')
     parser.add_argument('--min-distance', type=float, default=SIM.can_min_distance,
                         help='nearest can centre from the robot start (m)')
     parser.add_argument('--max-distance', type=float, default=SIM.can_max_distance,
@@ -179,6 +184,7 @@ def run(args):
                'video_frames': recorder.writer.frames if video_ok else 0}
     with open(os.path.join(args.output, 'summary.json'), 'w') as output:
         json.dump(json_ready(summary), output, indent=2, allow_nan=False)
+    page = write_demo_page(args.output, json_ready(summary))
     time_text = ('%.1f s' % result.time_to_stop_s if result.stopped
                  else 'not stopped within %.0f s' % args.time_limit)
     print('demo: can at (%.2f, %.2f) m; final gap %.3f m (target %.2f, error %+.1f mm), '
@@ -188,6 +194,7 @@ def run(args):
              result.path_length_m,
              result.contact_text(),
              'SUCCESS' if result.success else 'FAILED'))
-    print('demo: wrote %s/demo.mp4 (%d frames), trajectory.png, summary.json'
-          % (args.output, summary['video_frames']))
+    print('demo: wrote demo.mp4 (%d frames), trajectory.png, summary.json and index.html to\n'
+          '  %s\nopen %s in a browser to see the run'
+          % (summary['video_frames'], os.path.abspath(args.output), os.path.abspath(page)))
     sys.exit(0 if result.success else 1)

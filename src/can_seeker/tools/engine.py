@@ -33,6 +33,7 @@ from distributed.diagnostics.plugin import WorkerPlugin
 from tqdm import tqdm
 
 from can_seeker.evaluation.batch import TrialLedger, write_json_atomically
+from can_seeker.evaluation.cpu_features import narrow_kernel_environment, numpy_features_to_disable
 from can_seeker.evaluation.trials import Criteria, TrialResult
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 
@@ -55,25 +56,37 @@ LOGGER = logging.getLogger('can_seeker.engine')
 class SystemSpec:
     """What a worker's ROS system is started with: demo.launch arguments, ``/node/param``
     overrides, the trials' sim time limit (s), and a run number that tells two otherwise equal
-    runs apart (each run gets fresh systems). ``log_dir``: where each system's roslaunch output
-    goes (None: the worker's temp folder)."""
+    runs apart (each run gets fresh systems). ``wide_kernels`` False: every node runs without
+    numpy's wide SIMD kernels that the worker's CPU has (see
+    :mod:`can_seeker.evaluation.cpu_features`). ``log_dir``: where each system's roslaunch
+    output goes (None: the worker's temp folder)."""
 
     launch_args: Tuple[Tuple[str, str], ...]
     params: Tuple[Tuple[str, str], ...]
     time_limit_s: float
     run: int = 0
     log_dir: Optional[str] = None
+    wide_kernels: bool = True
 
     @classmethod
     def of(cls, launch_args: Dict[str, object], params: Dict[str, object], time_limit_s: float,
-           run: int = 0, log_dir: Optional[str] = None) -> 'SystemSpec':
+           run: int = 0, log_dir: Optional[str] = None,
+           wide_kernels: bool = True) -> 'SystemSpec':
         return cls(tuple(sorted((name, str(value)) for name, value in launch_args.items())),
                    tuple(sorted((name, str(value)) for name, value in params.items())),
-                   float(time_limit_s), run, log_dir)
+                   float(time_limit_s), run, log_dir, wide_kernels)
 
     def key(self) -> str:
         """The system's identity (the log folder does not change the system)."""
-        return json.dumps([self.launch_args, self.params, self.time_limit_s, self.run])
+        return json.dumps([self.launch_args, self.params, self.time_limit_s, self.run,
+                           self.wide_kernels])
+
+    def environment(self) -> Dict[str, str]:
+        """The environment variables a worker adds for its system's nodes (computed on the
+        worker: its CPU decides which wide kernels there are to turn off)."""
+        if self.wide_kernels:
+            return {}
+        return narrow_kernel_environment(numpy_features_to_disable())
 
 
 class WorkerSystem:
@@ -85,7 +98,8 @@ class WorkerSystem:
         os.makedirs(log_dir, exist_ok=True)
         log_path = os.path.join(log_dir, 'can_seeker_evaluate_%s_%d.log'
                                 % (socket.gethostname(), os.getpid()))
-        self.launch = LaunchedSystem(dict(spec.launch_args), log_path, params=dict(spec.params))
+        self.launch = LaunchedSystem(dict(spec.launch_args), log_path, params=dict(spec.params),
+                                     env=spec.environment())
         self.launch.__enter__()
         rospy.init_node('evaluate', disable_signals=True)
         self.launch.wait_for_services()

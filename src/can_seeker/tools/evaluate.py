@@ -19,7 +19,9 @@ Scale out (``can_seeker.tools.engine``): every trial is a Dask task; ``--jobs N`
 local cluster of N worker processes, ``--cluster ADDRESS`` on a running Dask scheduler's
 workers; each worker process has a ROS system of its own (its own master on its own port). The
 results do not depend on how many workers ran them. ``--repeat-check`` runs the trials twice
-and reports the largest per-trial difference (final pose, outcome).
+and reports the largest per-trial difference (final pose, outcome); ``--cpu-features-check``
+runs them again with every node started without numpy's wide SIMD (AVX-512) kernels and reports
+the same, so a result that hangs on the CPU's last bits shows.
 
 Real senses: ``--realism realistic`` (or ``harsh``) gives the simulator a noisy, late camera,
 drifting wheel odometry and imperfect motors; ``--param NODE/PARAM=VALUE`` sets any node
@@ -44,10 +46,13 @@ from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
 from can_seeker.sim.world import CAN_TEXTURES
 from can_seeker.evaluation.batch import (REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG,
                                          TrialLedger, compare_runs, write_json_atomically)
+from can_seeker.evaluation.cpu_features import (DISABLE_VARIABLE, NOTHING_TO_DISABLE, describe,
+                                                numpy_features_to_disable)
 from can_seeker.evaluation.result_files import command_line, result_record, write_result
 from can_seeker.evaluation.sweep import (override_arg, parse_sweep, plot_sweep,
                                          setting_label, sweep_grid, sweep_table)
 from can_seeker.evaluation.trials import Criteria, json_ready, summary_table
+from can_seeker.output_paths import default_output_dir
 
 SIM = defaults(SIM_PARAMS)
 CONTROL = defaults(CONTROL_PARAMS)
@@ -113,7 +118,7 @@ def parse_args(argv):
                         metavar='NODE/PARAM=V1,V2,...',
                         help='evaluate the same seeds at every value (repeatable: every '
                         'combination); writes a table and a plot to --sweep-output')
-    parser.add_argument('--sweep-output', default='sweep', metavar='DIR',
+    parser.add_argument('--sweep-output', default=default_output_dir('sweep'), metavar='DIR',
                         help='folder for sweep.md, sweep.json and sweep.png')
     parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
                         help='sim time allowed to reach STOPPED (s)')
@@ -138,6 +143,13 @@ def parse_args(argv):
                         'exit 1 unless outcomes match and final poses agree within %g mm and '
                         '%g deg' % (1000.0 * REPEAT_POSITION_TOLERANCE_M,
                                     REPEAT_YAW_TOLERANCE_DEG))
+    parser.add_argument('--cpu-features-check', action='store_true',
+                        help='run the trials again with every node started without the wide '
+                        'SIMD (AVX-512) kernels of numpy that the workers\' CPUs have (%s) and '
+                        'report the largest per-trial difference; exit 1 unless outcomes match '
+                        'and final poses agree within %g mm and %g deg'
+                        % (DISABLE_VARIABLE, 1000.0 * REPEAT_POSITION_TOLERANCE_M,
+                           REPEAT_YAW_TOLERANCE_DEG))
     parser.add_argument('--json', metavar='FILE',
                         help='write the results as JSON, again after every finished trial')
     parser.add_argument('--result', metavar='FILE',
@@ -160,8 +172,9 @@ def parse_args(argv):
         parser.error('--resume needs --json FILE')
     if args.result and args.sweep:
         parser.error('--result records one evaluation, not a --sweep')
-    if args.resume and (args.sweep or args.repeat_check):
-        parser.error('--resume continues one evaluation, not a --sweep or --repeat-check')
+    if args.resume and (args.sweep or args.repeat_check or args.cpu_features_check):
+        parser.error('--resume continues one evaluation, not a --sweep, --repeat-check or '
+                     '--cpu-features-check')
     return args
 
 
@@ -211,11 +224,13 @@ def settings(args):
     return record
 
 
-def system_spec(args, run=0):
+def system_spec(args, run=0, wide_kernels=True):
     """The ROS system the trials of ``args`` run on (``run`` tells a repeat check's runs
-    apart: each gets fresh systems)."""
+    apart: each gets fresh systems; ``wide_kernels`` False: its nodes run without numpy's
+    wide SIMD kernels)."""
     log_dir = os.path.abspath(args.log_dir) if args.log_dir else None
-    return SystemSpec.of(launch_args(args), dict(args.param), args.time_limit, run, log_dir)
+    return SystemSpec.of(launch_args(args), dict(args.param), args.time_limit, run, log_dir,
+                         wide_kernels)
 
 
 def new_ledger(args):
@@ -230,24 +245,48 @@ def new_ledger(args):
     return ledger
 
 
-def evaluate(args, engine, ledger, run=0, json_path=None):
+def evaluate(args, engine, ledger, run=0, json_path=None, wide_kernels=True,
+             description='trials'):
     """Run the trials ``ledger`` is missing on the engine, writing its record to ``json_path``
     after each; the indices that did not run."""
-    return run_missing(engine, system_spec(args, run), ledger, json_path,
-                       'trials' if run == 0 else 'trials, run %d' % (run + 1))
+    return run_missing(engine, system_spec(args, run, wide_kernels), ledger, json_path,
+                       description)
 
 
-def report_repeat(first, second):
-    """Print how far a second run of the trials landed from the first; True if repeatable."""
+def report_repeat(first, second, check='repeat check'):
+    """Print how far a second run of the trials landed from the first; the comparison (see
+    ``compare_runs``)."""
     comparison = compare_runs(first, second)
-    print('\nrepeat check: %d trials compared; largest final-pose difference %s mm (trial %s), '
+    print('\n%s: %d trials compared; largest final-pose difference %s mm (trial %s), '
           '%s deg (trial %s); outcomes differ in %s; unmatched %s -> %s'
-          % (comparison['compared'], _number(comparison['max_position_diff_mm']),
+          % (check, comparison['compared'], _number(comparison['max_position_diff_mm']),
              comparison['max_position_diff_trial'], _number(comparison['max_yaw_diff_deg']),
              comparison['max_yaw_diff_trial'], comparison['outcome_differs'] or 'none',
              comparison['unmatched'] or 'none',
              'repeatable' if comparison['repeatable'] else 'NOT repeatable'))
     return comparison
+
+
+def cpu_features_check(args, engine, ledger):
+    """Run the trials again on systems without the wide kernels each worker's CPU has and
+    compare them with ``ledger``'s: the comparison with ``disabled`` (what each worker turned
+    off) and the indices that did not run. When no worker has wide kernels there is no second
+    run and the comparison is None."""
+    disabled = {address: describe(features) for address, features
+                in sorted(engine.client.run(numpy_features_to_disable).items())}
+    shown = sorted(set(disabled.values()))
+    if shown == [NOTHING_TO_DISABLE]:
+        print('\ncpu-features check: %s on any worker; nothing to compare' % NOTHING_TO_DISABLE)
+        return None, []
+    print('\ncpu-features check: the second run\'s nodes run with %s'
+          % (shown[0] if len(shown) == 1 else '; '.join(
+              '%s on %s' % (text, address) for address, text in disabled.items())),
+          file=sys.stderr)
+    narrow = TrialLedger(settings(args))
+    not_run = evaluate(args, engine, narrow, wide_kernels=False,
+                       description='trials, no wide kernels')
+    comparison = report_repeat(ledger.results(), narrow.results(), 'cpu-features check')
+    return dict(comparison, disabled=disabled), not_run
 
 
 def _world_text(record_settings):
@@ -302,15 +341,19 @@ def main():
     except ValueError as error:
         print('evaluate: cannot resume %s: %s' % (args.json, error), file=sys.stderr)
         sys.exit(2)
-    repeat, not_run, interrupted = None, [], False
+    repeat, cpu_check, not_run, interrupted = None, None, [], False
     try:
         if ledger.missing():
             with Engine(args.jobs, args.cluster) as engine:
                 not_run = evaluate(args, engine, ledger, json_path=args.json)
                 if args.repeat_check:
                     second = TrialLedger(settings(args))
-                    not_run += evaluate(args, engine, second, run=1)
+                    not_run += evaluate(args, engine, second, run=1,
+                                        description='trials, run 2')
                     repeat = report_repeat(ledger.results(), second.results())
+                if args.cpu_features_check:
+                    cpu_check, cpu_not_run = cpu_features_check(args, engine, ledger)
+                    not_run += cpu_not_run
     except KeyboardInterrupt:
         interrupted = True
         print('evaluate: interrupted; summarising the %d finished trials'
@@ -337,6 +380,8 @@ def main():
         record = ledger.record()
         if repeat is not None:
             record['repeat_check'] = repeat
+        if cpu_check is not None:
+            record['cpu_features_check'] = cpu_check
         write_json_atomically(args.json, record)
         print('results written to %s' % args.json)
     if args.result:
@@ -350,4 +395,5 @@ def main():
     if interrupted:
         sys.exit(130)
     ok = bool(results) and not not_run and summary['successes'] == summary['trials']
-    sys.exit(0 if ok and (repeat is None or repeat['repeatable']) else 1)
+    checks = [check['repeatable'] for check in (repeat, cpu_check) if check is not None]
+    sys.exit(0 if ok and all(checks) else 1)
