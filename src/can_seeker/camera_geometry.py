@@ -20,7 +20,7 @@ from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
 from can_seeker.params import Param
 
 DISTORTION_MODELS = {'plumb_bob': (4, 5), 'rational_polynomial': (8,)}
-"""camera_info distortion models the geometry undoes, with the lengths of D each may have."""
+"""camera_info distortion models the geometry undoes, with the lengths D may have in each."""
 UNDISTORT_CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 50, 1e-10)
 """Iterations of cv2.undistortPointsIter: its default 5 leave 0.2 px in the corners of a
 60 deg barrel lens; these converge to 1e-10 (normalised) in a few more."""
@@ -388,3 +388,28 @@ def can_image_box(pose: CameraPose, intrinsics: CameraIntrinsics, range_m: float
     pixels = np.concatenate(rims)
     extent = pixels.max(axis=0) - pixels.min(axis=0)
     return float(extent[0]), float(extent[1])
+
+
+OPTICAL_AXIS_TOLERANCE = math.cos(math.radians(45.0))
+"""How far an optical frame's x axis may turn from the base's right (-y) (roll or yaw): 45 deg."""
+
+
+def optical_frame_problem(pose: CameraPose, frame_id: str) -> Optional[str]:
+    """Why the frame ``frame_id`` with this pose in a floor frame (z up, x forward) is no
+    optical frame the geometry can use, or None when it is one: its x axis (image right) must
+    point to the base's right (-y) within 45 deg, and its z axis (the optical axis) within
+    90 deg of forward-and-down (from 45 deg above the horizon, through forward, to 45 deg
+    past straight down). A REP-103 body frame (a camera_link: x forward, z up) fails both."""
+    x_axis, z_axis = pose.rotation[:, 0], pose.rotation[:, 2]
+    problems = []
+    if -x_axis[1] < OPTICAL_AXIS_TOLERANCE:
+        problems.append('its x axis (image right) points (%.2f, %.2f, %.2f) in the base frame, '
+                        'not to the robot\'s right (-y)' % tuple(x_axis))
+    if z_axis[0] - z_axis[2] <= 0.0:
+        problems.append('its z axis (the optical axis) points (%.2f, %.2f, %.2f), not forward '
+                        'or down' % tuple(z_axis))
+    if not problems:
+        return None
+    return ('image frame %r is not an optical frame: %s (a camera_link is x forward, z up; '
+            'or the camera is rolled more than 45 deg). Stamp images in camera_optical_frame, '
+            'z forward, x right, y down (REP-103)' % (frame_id, '; '.join(problems)))
