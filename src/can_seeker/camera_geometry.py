@@ -229,8 +229,9 @@ def range_from_floor(pose: CameraPose, intrinsics: CameraIntrinsics, u: float, v
     """Horizontal distance (m) from the camera to the near surface of an upright cylinder of
     radius ``radius_m``, from the image row ``v_bottom`` (px, lower edge) of its base.
 
-    Without camera roll a floor point's image row depends only on its distance along the
-    camera's heading, so the base's lowest row marks the heading distance of its nearest
+    Without camera roll a floor point's row in a pinhole image (a raw image's pixel
+    undistorted) depends only on its distance along the camera's heading, so the base's
+    lowest row marks the heading distance of its nearest
     point, centre - radius, wherever the can is across the image. NaN when the row is at or
     above the horizon.
     """
