@@ -3,18 +3,41 @@
 Conventions: image pixels (u right, v down, pixel centres at integers), optical frame z
 forward, x right, y down (REP-103); the floor frame (e.g. base_link) has z up and the floor at
 z = 0. The detector turns a blob into the range and bearing of an upright can with these.
+
+Lens distortion: a raw image (camera_info ``D`` non-zero) bends every ray; the geometry undoes
+it on the pixel coordinates it uses (cv2.undistortPoints with K and D), never on whole images.
+A rectified image (``D`` all zero, or ``~image_rectified``) is a pinhole image of ``P``
+(:func:`intrinsics_from_camera_info`).
 """
 import math
 from dataclasses import dataclass
+from typing import Optional, Sequence, Tuple
 
+import cv2
 import numpy as np
 
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
+from can_seeker.params import Param
+
+DISTORTION_MODELS = {'plumb_bob': (4, 5), 'rational_polynomial': (8,)}
+"""camera_info distortion models the geometry undoes, with the lengths D may have in each."""
+UNDISTORT_CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 50, 1e-10)
+"""Iterations of cv2.undistortPointsIter: its default 5 leave 0.2 px in the corners of a
+60 deg barrel lens; these converge to 1e-10 (normalised) in a few more."""
+
+CAMERA_INFO_PARAMS = (
+    Param('image_rectified', False, 'the images are rectified (image_proc\'s image_rect): use '
+          'camera_info\'s P and ignore D; false: undo D (plumb_bob, rational_polynomial) on '
+          'the pixels the geometry uses, or use P when D is all zero'),
+)
+"""How an image node reads camera_info."""
 
 
 @dataclass(frozen=True)
 class CameraIntrinsics:
-    """Pinhole intrinsics without distortion (px)."""
+    """Camera matrix of the image's pixels (px) and the lens distortion to undo first:
+    ``distortion`` is camera_info's D for it (OpenCV order, k1 k2 p1 p2 [k3 [k4 k5 k6]]);
+    empty for a pinhole (undistorted or rectified) image."""
 
     width: int
     height: int
@@ -22,6 +45,11 @@ class CameraIntrinsics:
     fy: float
     cx: float
     cy: float
+    distortion: Tuple[float, ...] = ()
+
+    @property
+    def camera_matrix(self) -> np.ndarray:
+        return np.array(((self.fx, 0.0, self.cx), (0.0, self.fy, self.cy), (0.0, 0.0, 1.0)))
 
     @property
     def K(self):
@@ -56,9 +84,66 @@ def intrinsics_from_k(width: int, height: int, k) -> CameraIntrinsics:
     return CameraIntrinsics(int(width), int(height), fx, fy, cx, cy)
 
 
+def intrinsics_from_camera_info(width: int, height: int, k, d, p, distortion_model: str,
+                                rectified: bool = False) -> CameraIntrinsics:
+    """The intrinsics the image's pixels have, from sensor_msgs/CameraInfo's fields.
+
+    A raw image (``d`` has a non-zero coefficient and not ``rectified``) keeps K and D: its
+    pixels are undistorted before any ray. Otherwise the image is a pinhole image of P (the
+    rectified camera: D is none of its business), or of K when P holds no focal lengths (a
+    driver that leaves P zero). Raises ValueError for a matrix without valid focal lengths, or
+    a distortion this module does not undo (then rectify the images with image_proc and set
+    ``~image_rectified``).
+    """
+    coefficients = tuple(float(value) for value in d)
+    if not rectified and any(value != 0.0 for value in coefficients):
+        lengths = DISTORTION_MODELS.get(distortion_model)
+        if lengths is None:
+            raise ValueError('distortion model %r is not undone here (plumb_bob, '
+                             'rational_polynomial are): rectify the images (image_proc) and '
+                             'set ~image_rectified' % distortion_model)
+        if len(coefficients) not in lengths or not all(map(math.isfinite, coefficients)):
+            raise ValueError('%s distortion D needs %s finite coefficients, got %s' % (
+                distortion_model, ' or '.join(map(str, lengths)), list(coefficients)))
+        intrinsics = intrinsics_from_k(width, height, k)
+        return CameraIntrinsics(intrinsics.width, intrinsics.height, intrinsics.fx,
+                                intrinsics.fy, intrinsics.cx, intrinsics.cy, coefficients)
+    p = [float(value) for value in p]
+    if len(p) == 12 and p[0] > 0.0 and p[5] > 0.0:
+        return intrinsics_from_k(width, height, (p[0], p[1], p[2], p[4], p[5], p[6], 0, 0, 1))
+    return intrinsics_from_k(width, height, k)
+
+
+def normalized_points(intrinsics: CameraIntrinsics, u, v) -> Tuple[np.ndarray, np.ndarray]:
+    """(x, y) on the optical frame's z = 1 plane of the rays through image points (u, v) (px,
+    arrays of one shape): the lens distortion undone when the intrinsics have one."""
+    u, v = np.asarray(u, np.float64), np.asarray(v, np.float64)
+    if not intrinsics.distortion:
+        return (u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy
+    points = np.stack((u.ravel(), v.ravel()), axis=-1).reshape(-1, 1, 2)
+    ideal = cv2.undistortPointsIter(points, intrinsics.camera_matrix,
+                                    np.asarray(intrinsics.distortion), None, None,
+                                    UNDISTORT_CRITERIA).reshape(-1, 2)
+    return ideal[:, 0].reshape(u.shape), ideal[:, 1].reshape(u.shape)
+
+
+def image_points(intrinsics: CameraIntrinsics, optical_m: np.ndarray) -> np.ndarray:
+    """Image points (N x 2, px) of optical-frame points (N x 3, in front: z > 0), through the
+    lens distortion when the intrinsics have one."""
+    optical_m = np.asarray(optical_m, np.float64).reshape(-1, 3)
+    if not intrinsics.distortion:
+        return np.stack((intrinsics.fx * optical_m[:, 0] / optical_m[:, 2] + intrinsics.cx,
+                         intrinsics.fy * optical_m[:, 1] / optical_m[:, 2] + intrinsics.cy),
+                        axis=1)
+    pixels, _ = cv2.projectPoints(optical_m, np.zeros(3), np.zeros(3),
+                                  intrinsics.camera_matrix, np.asarray(intrinsics.distortion))
+    return pixels.reshape(-1, 2)
+
+
 def pixel_ray(intrinsics: CameraIntrinsics, u: float, v: float) -> np.ndarray:
     """Direction (optical frame, z = 1) of the ray through image point (u, v) (px)."""
-    return np.array(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy, 1.0))
+    x, y = normalized_points(intrinsics, u, v)
+    return np.array((float(x), float(y), 1.0))
 
 
 def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
@@ -144,14 +229,23 @@ def range_from_floor(pose: CameraPose, intrinsics: CameraIntrinsics, u: float, v
     """Horizontal distance (m) from the camera to the near surface of an upright cylinder of
     radius ``radius_m``, from the image row ``v_bottom`` (px, lower edge) of its base.
 
-    Without camera roll a floor point's image row depends only on its distance along the
-    camera's heading, so the base's lowest row marks the heading distance of its nearest
+    Without camera roll a floor point's row in a pinhole image (a raw image's pixel
+    undistorted) depends only on its distance along the camera's heading, so the base's
+    lowest row marks the heading distance of its nearest
     point, centre - radius, wherever the can is across the image. NaN when the row is at or
     above the horizon.
     """
-    point = floor_point(pose, intrinsics, u, v_bottom)
-    if point is None:
+    return _range_from_base_ray(pose, pixel_ray(intrinsics, u, v_bottom), bearing, radius_m)
+
+
+def _range_from_base_ray(pose: CameraPose, ray_optical: np.ndarray, bearing: float,
+                         radius_m: float) -> float:
+    """:func:`range_from_floor` from the ray (optical frame) through the base's lower edge."""
+    direction = pose.to_floor_frame(ray_optical)
+    if direction[2] >= 0.0 or pose.height_m <= 0.0:
         return math.nan
+    scale = -pose.height_m / direction[2]
+    point = (pose.position[0] + scale * direction[0], pose.position[1] + scale * direction[1])
     heading = pose.heading_rad
     forward_m = ((point[0] - pose.position[0]) * math.cos(heading)
                  + (point[1] - pose.position[1]) * math.sin(heading))
@@ -202,8 +296,7 @@ def range_from_outline(pose: CameraPose, intrinsics: CameraIntrinsics, outline_p
         return math.nan
     u = np.concatenate((points[:, 0] - OUTLINE_EDGE_PX, points[:, 0] + OUTLINE_EDGE_PX))
     v = np.concatenate((points[:, 1], points[:, 1]))
-    rays = np.stack(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy,
-                     np.ones_like(u)))
+    rays = np.stack((*normalized_points(intrinsics, u, v), np.ones_like(u)))
     floor = pose.rotation @ rays
     azimuth = np.arctan2(floor[1], floor[0]) - pose.heading_rad
     azimuth = np.arctan2(np.sin(azimuth), np.cos(azimuth))
@@ -211,6 +304,21 @@ def range_from_outline(pose: CameraPose, intrinsics: CameraIntrinsics, outline_p
     if half_angle <= 0.0 or half_angle >= math.pi / 2:
         return math.nan
     return radius_m / math.sin(half_angle) - radius_m
+
+
+def _base_ray(intrinsics: CameraIntrinsics, u: float, v_bottom: float,
+              outline_px=None) -> np.ndarray:
+    """Ray (optical frame, z = 1) through the lower edge of a blob's base: the image point
+    (``u``, ``v_bottom``) in a pinhole image. Distortion bends the base's row, so in a raw
+    image it is the lowest once undone of that point and the lower edges of the outline's
+    pixels (N x 2 (u, v), optional)."""
+    if not intrinsics.distortion or outline_px is None or not len(outline_px):
+        return pixel_ray(intrinsics, u, v_bottom)
+    points = np.asarray(outline_px, np.float64).reshape(-1, 2)
+    x, y = normalized_points(intrinsics, np.append(points[:, 0], u),
+                             np.append(points[:, 1] + 0.5, v_bottom))
+    lowest = int(np.argmax(y))
+    return np.array((x[lowest], y[lowest], 1.0))
 
 
 def can_range_bearing(pose, intrinsics, centroid, bbox, diameter_m: float, outline_px=None):
@@ -230,7 +338,8 @@ def can_range_bearing(pose, intrinsics, centroid, bbox, diameter_m: float, outli
     radius_m = diameter_m / 2.0
     bearing = bearing_rad(pose, intrinsics, u, v)
     if y + height < intrinsics.height:
-        distance = range_from_floor(pose, intrinsics, u, y + height - 0.5, bearing, radius_m)
+        distance = _range_from_base_ray(
+            pose, _base_ray(intrinsics, u, y + height - 0.5, outline_px), bearing, radius_m)
         if math.isfinite(distance):
             return distance, bearing, 'floor'
     if x > 0 and x + width < intrinsics.width:
@@ -244,13 +353,10 @@ def can_range_bearing(pose, intrinsics, centroid, bbox, diameter_m: float, outli
 
 
 def project_floor_points(pose: CameraPose, intrinsics: CameraIntrinsics, points_m: np.ndarray):
-    """Image points (u, v) (px) of floor-frame points (N x 3, m); rows behind the camera are
-    dropped."""
+    """Image points (u, v) (px) of floor-frame points (N x 3, m), through the lens distortion
+    when the intrinsics have one; rows behind the camera are dropped."""
     optical = (np.asarray(points_m, float) - np.asarray(pose.position)) @ pose.rotation
-    optical = optical[optical[:, 2] > 1e-6]
-    u = intrinsics.fx * optical[:, 0] / optical[:, 2] + intrinsics.cx
-    v = intrinsics.fy * optical[:, 1] / optical[:, 2] + intrinsics.cy
-    return np.stack((u, v), axis=1)
+    return image_points(intrinsics, optical[optical[:, 2] > 1e-6])
 
 
 def can_rims_px(pose: CameraPose, intrinsics: CameraIntrinsics, range_m: float,
@@ -283,3 +389,28 @@ def can_image_box(pose: CameraPose, intrinsics: CameraIntrinsics, range_m: float
     pixels = np.concatenate(rims)
     extent = pixels.max(axis=0) - pixels.min(axis=0)
     return float(extent[0]), float(extent[1])
+
+
+OPTICAL_AXIS_TOLERANCE = math.cos(math.radians(45.0))
+"""How far an optical frame's x axis may turn from the base's right (-y) (roll or yaw): 45 deg."""
+
+
+def optical_frame_problem(pose: CameraPose, frame_id: str) -> Optional[str]:
+    """Why the frame ``frame_id`` with this pose in a floor frame (z up, x forward) is no
+    optical frame the geometry can use, or None when it is one: its x axis (image right) must
+    point to the base's right (-y) within 45 deg, and its z axis (the optical axis) within
+    90 deg of forward-and-down (from 45 deg above the horizon, through forward, to 45 deg
+    past straight down). A REP-103 body frame (a camera_link: x forward, z up) fails both."""
+    x_axis, z_axis = pose.rotation[:, 0], pose.rotation[:, 2]
+    problems = []
+    if -x_axis[1] < OPTICAL_AXIS_TOLERANCE:
+        problems.append('its x axis (image right) points (%.2f, %.2f, %.2f) in the base frame, '
+                        'not to the robot\'s right (-y)' % tuple(x_axis))
+    if z_axis[0] - z_axis[2] <= 0.0:
+        problems.append('its z axis (the optical axis) points (%.2f, %.2f, %.2f), not forward '
+                        'or down' % tuple(z_axis))
+    if not problems:
+        return None
+    return ('image frame %r is not an optical frame: %s (a camera_link is x forward, z up; '
+            'or the camera is rolled more than 45 deg). Stamp images in camera_optical_frame, '
+            'z forward, x right, y down (REP-103)' % (frame_id, '; '.join(problems)))

@@ -5,8 +5,10 @@ Subscribes ``image`` (queue_size=1 and a large buff_size: always the newest fram
 (bgr8), ``~mask`` and ``~edges`` (mono8), and /diagnostics (the rates and ages of the
 images and camera_info, what became of the recent frames). Thresholds are tunable with
 dynamic_reconfigure.
-The camera pose for range and bearing comes from TF (``~base_frame`` <- image frame), else
-from ``~camera_height``/``~camera_pitch_deg`` (:mod:`can_seeker.ros.camera_pose`).
+The camera pose for range and bearing comes from TF (``~base_frame`` <- image frame, which
+must be an optical frame), else from the fallback mount ``~camera_height``/``~camera_pitch_deg``/
+``~camera_x`` (:mod:`can_seeker.ros.camera_pose`); camera_info's D is undone on the pixels the
+geometry uses unless ``~image_rectified``.
 """
 import time
 
@@ -18,7 +20,7 @@ from dynamic_reconfigure.server import Server
 from sensor_msgs.msg import CameraInfo, Image
 
 from can_seeker.allocator import reuse_freed_memory
-from can_seeker.camera_geometry import intrinsics_from_k
+from can_seeker.camera_geometry import intrinsics_from_camera_info
 from can_seeker.cfg import ImageConverterConfig
 from can_seeker.gui.display_check import OPENCV_WINDOW_PROBE, display_problem
 from can_seeker.gui.windows import ImageWindows
@@ -41,10 +43,12 @@ OPENCV_THREADS = 1
 per frame and leaves the other core to the camera and the controller."""
 
 
-def frame_outcome(found, range_m, intrinsics, pose):
+def frame_outcome(found, range_m, intrinsics, pose, frame_problem=None):
     """(outcome, level) of a processed frame for the diagnostics."""
     if not found:
         return 'no red object', OK
+    if pose is None and frame_problem:
+        return 'red object, no range: the image frame is not an optical frame', ERROR
     if intrinsics is None or pose is None:
         return 'red object, no range: camera geometry unknown', WARN
     if np.isfinite(range_m):
@@ -78,8 +82,9 @@ class ImageConverterNode:
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.camera_poses = CameraPoseSource.from_tf(
             self.tf_buffer, self.config.base_frame,
-            fallback_pose(self.config.camera_height, self.config.camera_pitch_deg),
-            'image_converter')
+            fallback_pose(self.config.camera_height, self.config.camera_pitch_deg,
+                          self.config.camera_x),
+            'image_converter', require_optical=True)
         self.display = self._make_display(self.config.show)
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.detection_pub = rospy.Publisher('~detection', CanDetection, queue_size=10)
@@ -119,7 +124,9 @@ class ImageConverterNode:
     def on_camera_info(self, msg):
         self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
-            self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
+            self.intrinsics = intrinsics_from_camera_info(
+                msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
+                self.config.image_rectified)
         except ValueError as error:
             rospy.logerr_throttle(ERROR_PERIOD_S,
                                   'image_converter: ignoring camera_info: %s' % error)
@@ -161,7 +168,9 @@ class ImageConverterNode:
         report = can_report(result.candidates, msg.width, msg.height, pose, intrinsics,
                             self.can_model)
         self.publish_detection(msg, report)
-        self.outcomes.add(*frame_outcome(result.found, report.range_m, intrinsics, pose))
+        self.outcomes.add(*frame_outcome(result.found, report.range_m, intrinsics, pose,
+                                         self.camera_poses.problems.get(
+                                             msg.header.frame_id.lstrip('/'))))
         if want_mask:
             self.mask_pub.publish(image_msg(msg.header, result.mask, 'mono8'))
         if publish_edges:

@@ -5,11 +5,12 @@ Subscribes ``image`` (queue_size=1, large buff_size: always the newest frame) an
 with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``~obstacles``
 (mono8), and /diagnostics (the rates and ages of the images and camera_info, whether the
 recent frames gave a scan and if not why). The camera pose comes from TF (``~scan_frame`` <-
-image frame), else from ``~camera_height``/``~camera_pitch_deg``
-(:mod:`can_seeker.ros.camera_pose`). ``~reset`` (std_srvs/Empty)
-forgets the learned floor model, so a new trial does not inherit the last one's, and skips the
-frames stamped at or before the reset that are still on their way (they show the world before
-it; which of them arrive after the reset depends on the machine's load).
+image frame, which must be an optical frame), else from the fallback mount ``~camera_height``/
+``~camera_pitch_deg``/``~camera_x`` (:mod:`can_seeker.ros.camera_pose`); camera_info's D is
+undone on the pixels the scan's geometry uses unless ``~image_rectified``. ``~reset``
+(std_srvs/Empty) forgets the learned floor model, so a new trial does not inherit the last
+one's, and skips the frames stamped at or before the reset that are still on their way (they
+show the world before it; which of them arrive after the reset depends on the machine's load).
 """
 import math
 import threading
@@ -21,7 +22,8 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.allocator import reuse_freed_memory
-from can_seeker.camera_geometry import intrinsics_from_k
+from can_seeker.camera_geometry import CAMERA_INFO_PARAMS, intrinsics_from_camera_info
+from can_seeker.camera_mount import FALLBACK_MOUNT_PARAMS
 from can_seeker.health import ERROR, OK, Outcomes
 from can_seeker.params import read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
@@ -31,12 +33,9 @@ from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
-from can_seeker.vision.report import PARAMS as DETECTOR_NODE_PARAMS
 from can_seeker.vision.report import fallback_pose
 
-FALLBACK_POSE_PARAMS = tuple(spec for spec in DETECTOR_NODE_PARAMS
-                             if spec.name in ('camera_height', 'camera_pitch_deg'))
-PARAMS = FLOOR_PARAMS + SCAN_PARAMS + FALLBACK_POSE_PARAMS
+PARAMS = FLOOR_PARAMS + SCAN_PARAMS + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_PARAMS
 
 ERROR_PERIOD_S = 5.0
 
@@ -56,8 +55,9 @@ class ObstacleScanNode:
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.camera_poses = CameraPoseSource.from_tf(
             self.tf_buffer, self.config.scan_frame,
-            fallback_pose(self.config.camera_height, self.config.camera_pitch_deg),
-            'obstacle_scan')
+            fallback_pose(self.config.camera_height, self.config.camera_pitch_deg,
+                          self.config.camera_x),
+            'obstacle_scan', require_optical=True)
         self.scan_pub = rospy.Publisher('camera_scan', LaserScan, queue_size=1)
         self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
         self.obstacles_pub = rospy.Publisher('~obstacles', Image, queue_size=1)
@@ -79,7 +79,9 @@ class ObstacleScanNode:
     def on_camera_info(self, msg):
         self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
-            self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
+            self.intrinsics = intrinsics_from_camera_info(
+                msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
+                self.config.image_rectified)
         except ValueError as error:
             rospy.logerr_throttle(ERROR_PERIOD_S, 'obstacle_scan: ignoring camera_info: %s'
                                   % error)
@@ -123,6 +125,8 @@ class ObstacleScanNode:
             self.outcomes.add('scan', OK)
         elif intrinsics is None:
             self.outcomes.add('no scan: no usable camera_info', ERROR)
+        elif pose is None and msg.header.frame_id.lstrip('/') in self.camera_poses.problems:
+            self.outcomes.add('no scan: the image frame is not an optical frame', ERROR)
         elif pose is None:
             self.outcomes.add('no scan: camera pose unknown', ERROR)
         else:

@@ -10,16 +10,22 @@ The rule (:class:`CameraPoseSource`):
   once;
 - a failed refresh keeps the last pose TF gave (its age grows: :meth:`CameraPoseSource.age_s`);
 - until TF has given a pose at all, the pose is the ``fallback`` (from the node's mount
-  parameters; None when it has none: the caller then has no pose).
+  parameters; None when it has none: the caller then has no pose);
+- for an image (``require_optical``), a frame TF gives that is no optical frame (z forward,
+  x right, y down: :func:`can_seeker.camera_geometry.optical_frame_problem`, e.g. images
+  stamped in camera_link) gives no pose at all, and an error through ``error``: every range
+  from it would be wrong.
 
-Failures are warned about through ``warn`` (throttled by the caller's logger).
+Failures are warned about through ``warn``, a wrong frame through ``error`` (both throttled
+by the caller's logger).
 """
 from typing import Callable, Dict, Optional, Tuple
 
 import rospy
 import tf2_ros
 
-from can_seeker.camera_geometry import CameraPose, camera_pose_from_transform
+from can_seeker.camera_geometry import (CameraPose, camera_pose_from_transform,
+                                        optical_frame_problem)
 
 REFRESH_S = 0.0
 """A pose from TF is looked up again after this long (s, the node's clock): every frame."""
@@ -40,37 +46,49 @@ class CameraPoseSource:
 
     def __init__(self, lookup: Callable, base_frame: str,
                  fallback: Optional[CameraPose] = None,
-                 warn: Optional[Callable[[str], None]] = None, refresh_s: float = REFRESH_S):
+                 warn: Optional[Callable[[str], None]] = None, refresh_s: float = REFRESH_S,
+                 require_optical: bool = False,
+                 error: Optional[Callable[[str], None]] = None):
         self.lookup = lookup
         self.base_frame = base_frame
         self.fallback = fallback
         self.warn = warn or (lambda message: None)
+        self.error = error or self.warn
         self.refresh_s = refresh_s
+        self.require_optical = require_optical
         self.poses: Dict[str, Tuple[CameraPose, float]] = {}
+        self.problems: Dict[str, str] = {}
 
     @classmethod
     def from_tf(cls, buffer, base_frame: str, fallback: Optional[CameraPose] = None,
-                name: str = 'node', refresh_s: float = REFRESH_S) -> 'CameraPoseSource':
-        """A source on a tf2_ros.Buffer (latest transforms), warning through rospy as
-        ``name``."""
+                name: str = 'node', refresh_s: float = REFRESH_S,
+                require_optical: bool = False) -> 'CameraPoseSource':
+        """A source on a tf2_ros.Buffer (latest transforms), warning (and reporting a wrong
+        frame as an error) through rospy as ``name``."""
         return cls(lambda target, source: buffer.lookup_transform(
                        target, source, rospy.Time(0)).transform,
                    base_frame, fallback,
                    lambda message: rospy.logwarn_throttle(WARN_PERIOD_S,
                                                           '%s: %s' % (name, message)),
-                   refresh_s)
+                   refresh_s, require_optical,
+                   lambda message: rospy.logerr_throttle(WARN_PERIOD_S,
+                                                         '%s: %s' % (name, message)))
 
     @classmethod
     def from_buffer_core(cls, core, base_frame: str, fallback: Optional[CameraPose] = None,
-                         refresh_s: float = REFRESH_S) -> 'CameraPoseSource':
-        """A source on a tf2_ros.BufferCore filled by hand (a bag's TF), silent."""
+                         refresh_s: float = REFRESH_S,
+                         require_optical: bool = False) -> 'CameraPoseSource':
+        """A source on a tf2_ros.BufferCore filled by hand (a bag's TF), silent (a wrong frame
+        is kept in :attr:`problems`)."""
         return cls(lambda target, source: core.lookup_transform_core(
                        target, source, rospy.Time(0)).transform,
-                   base_frame, fallback, None, refresh_s)
+                   base_frame, fallback, None, refresh_s, require_optical)
 
     def pose(self, frame_id: str, now_s: float) -> Optional[CameraPose]:
         """The pose of ``frame_id`` (a leading '/' is ignored) in the base frame at ``now_s``
-        (s, the node's clock): from TF, the last one TF gave, or the fallback."""
+        (s, the node's clock): from TF, the last one TF gave, or the fallback; None when there
+        is none, or TF gives one that is no optical frame while ``require_optical`` (the
+        reason is in :attr:`problems`)."""
         frame_id = frame_id.lstrip('/')
         cached = self.poses.get(frame_id)
         if cached is not None and abs(now_s - cached[1]) < self.refresh_s:
@@ -86,6 +104,14 @@ class CameraPoseSource:
                 self.base_frame, frame_id, error,
                 'using the mount parameters' if self.fallback is not None else 'no pose'))
             return self.fallback
+        if self.require_optical:
+            problem = optical_frame_problem(pose, frame_id)
+            if problem is not None:
+                self.problems[frame_id] = problem
+                self.poses.pop(frame_id, None)
+                self.error('%s: no range, bearing or scan from it' % problem)
+                return None
+            self.problems.pop(frame_id, None)
         self.poses[frame_id] = (pose, now_s)
         return pose
 

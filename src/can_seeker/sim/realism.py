@@ -17,7 +17,7 @@ from typing import Deque, List, Optional, Sequence, Tuple
 import cv2
 import numpy as np
 
-from can_seeker.camera_geometry import CameraIntrinsics
+from can_seeker.camera_geometry import UNDISTORT_CRITERIA, CameraIntrinsics
 from can_seeker.params import Param
 
 REALISM_PRESETS = ('ideal', 'realistic', 'harsh')
@@ -186,23 +186,37 @@ def light_direction(azimuth_rad: float, elevation_deg: float) -> Tuple[float, fl
             math.cos(elevation) * math.sin(azimuth_rad), math.sin(elevation))
 
 
-def distortion_maps(intrinsics: CameraIntrinsics, k1: float, k2: float):
+def distortion_maps(intrinsics: CameraIntrinsics, k1: float, k2: float, margin_px: int = 0):
     """(map_x, map_y) for cv2.remap that turn a pinhole render into the plumb_bob image of the
-    same K with D = (k1, k2, 0, 0, 0): each distorted pixel samples its undistorted point."""
+    same K with D = (k1, k2, 0, 0, 0): each distorted pixel samples its undistorted point, in a
+    render of the same focal length ``margin_px`` larger on every side."""
     camera = np.array([[intrinsics.fx, 0.0, intrinsics.cx], [0.0, intrinsics.fy, intrinsics.cy],
                        [0.0, 0.0, 1.0]])
     columns, rows = np.meshgrid(np.arange(intrinsics.width, dtype=np.float64),
                                 np.arange(intrinsics.height, dtype=np.float64))
     pixels = np.stack((columns.ravel(), rows.ravel()), axis=1).reshape(-1, 1, 2)
-    ideal = cv2.undistortPoints(pixels, camera, np.array([k1, k2, 0.0, 0.0, 0.0]), P=camera)
-    ideal = ideal.reshape(intrinsics.height, intrinsics.width, 2).astype(np.float32)
+    ideal = cv2.undistortPointsIter(pixels, camera, np.array([k1, k2, 0.0, 0.0, 0.0]), None,
+                                    camera, UNDISTORT_CRITERIA)
+    ideal = ideal.reshape(intrinsics.height, intrinsics.width, 2).astype(np.float32) + margin_px
     return ideal[:, :, 0], ideal[:, :, 1]
+
+
+def render_margin_px(intrinsics: CameraIntrinsics, k1: float, k2: float) -> int:
+    """How many pixels beyond each side of the image a pinhole render must reach for the
+    plumb_bob image of (k1, k2) to sample scene everywhere: a barrel lens sees past the
+    pinhole view of its K (0 for a lens that sees less)."""
+    map_x, map_y = distortion_maps(intrinsics, k1, k2)
+    beyond = max(-float(map_x.min()), float(map_x.max()) - (intrinsics.width - 1),
+                 -float(map_y.min()), float(map_y.max()) - (intrinsics.height - 1), 0.0)
+    return int(math.ceil(beyond)) + 1 if beyond > 0.0 else 0
 
 
 class CameraModel:
     """Turns the renderer's perfect frame into a camera's: optics (distortion, motion blur,
     vignetting), light (colour temperature, intensity) and the camera's answer to it (auto
-    exposure, auto white balance with drift), the sensor's noise, and a JPEG round trip."""
+    exposure, auto white balance with drift), the sensor's noise, and a JPEG round trip.
+    ``render_margin_px`` is how far beyond each side of the image it wants the render (a
+    barrel lens sees past the pinhole view)."""
 
     def __init__(self, spec: RealismSpec, intrinsics: CameraIntrinsics, encoding: str = 'bgr8'):
         self.spec = spec
@@ -215,8 +229,11 @@ class CameraModel:
                          and spec.camera_k2 == 0 and spec.light_kelvin_min == 6500.0
                          and spec.light_kelvin_max == 6500.0
                          and spec.light_intensity_min == 1.0 and spec.light_intensity_max == 1.0)
-        self._maps = (distortion_maps(intrinsics, spec.camera_k1, spec.camera_k2)
-                      if spec.camera_k1 or spec.camera_k2 else None)
+        distorted = bool(spec.camera_k1 or spec.camera_k2)
+        self.render_margin_px = (render_margin_px(intrinsics, spec.camera_k1, spec.camera_k2)
+                                 if distorted else 0)
+        self._maps = (distortion_maps(intrinsics, spec.camera_k1, spec.camera_k2,
+                                      self.render_margin_px) if distorted else None)
         self._vignette = self._vignette_gain() if spec.camera_vignetting else None
         self.new_trial(np.random.default_rng(0))
 
@@ -282,8 +299,9 @@ class CameraModel:
 
     def apply(self, frame: np.ndarray, linear_mps: float = 0.0,
               angular_radps: float = 0.0) -> np.ndarray:
-        """The camera's image (HxWx3 uint8) of the rendered ``frame`` taken while the robot
-        moved at (``linear_mps``, ``angular_radps``); advances exposure and white balance."""
+        """The camera's image (HxWx3 uint8) of the rendered ``frame`` (of the image's focal
+        length, :attr:`render_margin_px` larger on every side) taken while the robot moved at
+        (``linear_mps``, ``angular_radps``); advances exposure and white balance."""
         if self.identity:
             return frame
         spec, rng = self.spec, self._rng

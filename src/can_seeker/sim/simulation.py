@@ -537,7 +537,7 @@ class Simulation:
     def _capture(self):
         """Render a frame as the camera sees it now and hand it to the frame delivery."""
         camera = self.realism.camera
-        image = self.world.render(self.encoding, camera.light_direction)
+        image = self.world.render(self.encoding, camera.light_direction, camera.render_margin_px)
         if not camera.identity:
             state = self.world.robot_state()
             image = camera.apply(image, state.linear_velocity[0], state.angular_velocity[2])

@@ -8,6 +8,7 @@ the robot starts at its origin facing +x. Use one World from one thread: pybulle
 thread-safe.
 """
 import importlib.util
+import math
 import os
 import shutil
 import tempfile
@@ -454,29 +455,36 @@ class World:
                  if int(index) in names}
         return rgba_to_image(rgba, encoding), masks
 
-    def _camera_image(self, flags: int, light_direction: Optional[Sequence[float]]):
-        """(HxWx4 uint8 RGBA, segmentation) of the camera, rendered with pybullet ``flags``."""
+    def _camera_image(self, flags: int, light_direction: Optional[Sequence[float]],
+                      margin_px: int = 0):
+        """(HxWx4 uint8 RGBA, segmentation) of the camera, rendered with pybullet ``flags``,
+        ``margin_px`` larger on every side at the same focal length."""
         client = self._client
         eye, rotation = self.camera_pose()
         view = client.computeViewMatrix(eye.tolist(), (eye + rotation[:, 0]).tolist(),
                                         rotation[:, 2].tolist())
         camera = self.camera
-        projection = client.computeProjectionMatrixFOV(camera.fov_deg, camera.width / camera.height,
+        width, height = camera.width + 2 * margin_px, camera.height + 2 * margin_px
+        fov_deg = math.degrees(2.0 * math.atan(
+            height / camera.height * math.tan(math.radians(camera.fov_deg) / 2.0)))
+        projection = client.computeProjectionMatrixFOV(fov_deg, width / height,
                                                        CLIP_NEAR_M, CLIP_FAR_M)
         renderer = (pybullet.ER_TINY_RENDERER if self.renderer_name == 'tiny'
                     else pybullet.ER_BULLET_HARDWARE_OPENGL)
         lighting = {} if light_direction is None else {'lightDirection': list(light_direction)}
         _, _, rgba, _, segmentation = client.getCameraImage(
-            camera.width, camera.height, view, projection, renderer=renderer, flags=flags,
-            **lighting)
-        return (np.asarray(rgba, dtype=np.uint8).reshape(camera.height, camera.width, 4),
-                segmentation)
+            width, height, view, projection, renderer=renderer, flags=flags, **lighting)
+        return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4), segmentation
 
     def render(self, encoding: str = 'bgr8',
-               light_direction: Optional[Sequence[float]] = None) -> np.ndarray:
+               light_direction: Optional[Sequence[float]] = None,
+               margin_px: int = 0) -> np.ndarray:
         """The camera image as an HxWx3 uint8 array in ``encoding`` ('bgr8' or 'rgb8'), lit as
-        in :meth:`render_rgba`."""
-        return rgba_to_image(self.render_rgba(light_direction), encoding)
+        in :meth:`render_rgba`; ``margin_px`` larger on every side at the same focal length
+        (the view a lens that bends rays sees beyond the pinhole one)."""
+        rgba = self._camera_image(pybullet.ER_NO_SEGMENTATION_MASK, light_direction,
+                                  margin_px)[0]
+        return rgba_to_image(rgba, encoding)
 
     def close(self):
         """Disconnect from pybullet (the world is unusable afterwards)."""

@@ -21,7 +21,7 @@ import rospy
 import tf2_ros
 from tqdm import tqdm
 
-from can_seeker.camera_geometry import intrinsics_from_k
+from can_seeker.camera_geometry import intrinsics_from_camera_info
 from can_seeker.output_paths import default_output_dir
 from can_seeker.vision import report
 from can_seeker.vision.report import CanModel, can_report, fallback_pose
@@ -107,7 +107,9 @@ class BagDetector:
         self.tf = tf2_ros.BufferCore(rospy.Duration(3600.0))
         self.camera_poses = CameraPoseSource.from_buffer_core(
             self.tf, config.base_frame,
-            fallback_pose(config.camera_height, config.camera_pitch_deg))
+            fallback_pose(config.camera_height, config.camera_pitch_deg, config.camera_x),
+            require_optical=True)
+        self.image_rectified = config.image_rectified
         self.intrinsics = None
         self.video = None
         self.video_size = None
@@ -153,7 +155,9 @@ class BagDetector:
 
     def set_camera_info(self, msg):
         try:
-            self.intrinsics = intrinsics_from_k(msg.width, msg.height, msg.K)
+            self.intrinsics = intrinsics_from_camera_info(
+                msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
+                self.image_rectified)
         except ValueError:
             self.intrinsics = None
 

@@ -22,7 +22,7 @@ from typing import Optional
 import cv2
 import numpy as np
 
-from can_seeker.camera_geometry import CameraIntrinsics, CameraPose
+from can_seeker.camera_geometry import CameraIntrinsics, CameraPose, normalized_points
 from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param, defaults
 from can_seeker.vision.detector import Blob, RedCanDetector
@@ -100,9 +100,10 @@ class ScanGeometry:
 
 
 def _rays(pose: CameraPose, intrinsics: CameraIntrinsics, u, v) -> np.ndarray:
-    """Ray directions (..., 3) through pixel coordinates (u, v) (px), in the scan frame."""
-    return np.stack(((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy,
-                     np.ones_like(u)), axis=-1) @ pose.rotation.T
+    """Ray directions (..., 3) through pixel coordinates (u, v) (px), in the scan frame, the
+    lens distortion undone (the tables are built once per pose and intrinsics)."""
+    x, y = normalized_points(intrinsics, u, v)
+    return np.stack((x, y, np.ones_like(x)), axis=-1) @ pose.rotation.T
 
 
 def _floor_polar(pose: CameraPose, intrinsics: CameraIntrinsics, u, v, plane_height_m=0.0):

@@ -25,9 +25,9 @@ from typing import Optional, Sequence, Tuple
 import cv2
 import numpy as np
 
-from can_seeker.camera_geometry import (CameraPose, camera_pose_from_mount, can_image_box,
-                                        can_range_bearing, can_rims_px)
-from can_seeker.camera_mount import CameraMount
+from can_seeker.camera_geometry import (CAMERA_INFO_PARAMS, CameraPose, camera_pose_from_mount,
+                                        can_image_box, can_range_bearing, can_rims_px)
+from can_seeker.camera_mount import CAMERA_FORWARD_M, FALLBACK_MOUNT_PARAMS, CameraMount
 from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param
 from can_seeker.vision.detector import (DETECTOR_PARAMS, Blob, convexity_score,
@@ -37,12 +37,7 @@ SIZE_PREFERENCE_EXPONENT = 0.25
 """Candidates are ranked by confidence x (area / largest area) ** this: among equally
 can-like blobs the larger wins, but a can-like blob beats a larger shapeless one."""
 
-PARAMS = DETECTOR_PARAMS + (
-    BASE_FRAME,
-    Param('camera_height', 0.25, 'fallback height of camera_link above the floor when TF has no '
-          'camera pose (m); 0 = unknown: range and bearing are NaN without TF', 0.0, 5.0),
-    Param('camera_pitch_deg', 25.0, 'fallback camera pitch below the horizon when TF has no '
-          'camera pose (deg, positive down)', -89.0, 89.0),
+PARAMS = DETECTOR_PARAMS + (BASE_FRAME,) + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_PARAMS + (
     Param('can_diameter', 0.066, 'diameter of the can, for the near surface, the width '
           'fallback range and the size check (m)', 0.001, 1.0),
     Param('can_height', 0.122, 'height of the can, for the size check (m)', 0.001, 2.0),
@@ -56,11 +51,13 @@ PARAMS = DETECTOR_PARAMS + (
 )
 
 
-def fallback_pose(camera_height_m: float, camera_pitch_deg: float) -> Optional[CameraPose]:
-    """Camera pose from the mount parameters, or None when the height is 0 (unknown)."""
+def fallback_pose(camera_height_m: float, camera_pitch_deg: float,
+                  camera_x_m: float = CAMERA_FORWARD_M) -> Optional[CameraPose]:
+    """Camera pose from the fallback mount (FALLBACK_MOUNT_PARAMS), or None when the height is
+    0 (unknown)."""
     if camera_height_m <= 0.0:
         return None
-    return camera_pose_from_mount(CameraMount(camera_height_m, camera_pitch_deg))
+    return camera_pose_from_mount(CameraMount(camera_height_m, camera_pitch_deg, camera_x_m))
 
 
 @dataclass(frozen=True)
