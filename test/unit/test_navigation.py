@@ -182,6 +182,20 @@ def test_frontier_keeps_its_goal_until_another_costs_clearly_less():
     assert nearer != ahead
 
 
+def test_of_two_mirror_goals_the_frontier_picks_one_whatever_the_heading_s_last_bits():
+    """Facing the seen square's diagonal, two goals mirror each other about the heading at the
+    same cost: a heading a few ulps off either way (as another CPU's kernels may compute it)
+    picks the same one."""
+    seen = np.zeros((30, 30), bool)
+    seen[10:20, 10:20] = True
+    blocked = np.zeros_like(seen)
+    distance = planner.wavefront(~blocked, (15, 15))
+    goals = {planner.frontier_goal(distance, seen, blocked, (15, 15),
+                                   float(nudged(math.pi / 4.0, steps)), 0.1, 0.3, 6)
+             for steps in range(-4, 5)}
+    assert len(goals) == 1 and goals <= {(18, 20), (20, 18)}
+
+
 def test_no_frontier_when_everything_reachable_was_seen():
     seen = np.ones((20, 20), bool)
     blocked = np.zeros_like(seen)

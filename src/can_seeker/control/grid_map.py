@@ -30,7 +30,7 @@ resolution further. Odom positions outside the grid are ignored.
 
 Every discrete decision (the cell a point is in, the samples along a ray, which of them lie
 along its free part, what lies within a radius) is taken on positions snapped to whole
-micrometres (:mod:`can_seeker.control.lattice`), in integer arithmetic or in floats computed
+micrometres (:mod:`can_seeker.lattice`), in integer arithmetic or in floats computed
 from those integers by + - * / sqrt alone, so the same scan marks the same cells on every CPU:
 a point meant to lie on a cell boundary lies exactly on it, whatever the last bit of the sin
 or cos that placed it. The resolution is taken to the nearest multiple of 4 um, so each cell
@@ -42,8 +42,8 @@ from typing import Dict, Optional, Tuple
 import numpy as np
 
 from can_seeker.control.elapsed import elapsed_s
-from can_seeker.control.lattice import SCALE, ceil_div, lattice
 from can_seeker.control.planner import inflate
+from can_seeker.lattice import SCALE, ceil_div, lattice
 
 HIT_EVIDENCE = 4
 MISS_EVIDENCE = 1
@@ -54,7 +54,7 @@ BLIND_EDGE_M = 0.01
 """A return this near to a scan's range_min or nearer lies at the edge of its blind zone (see
 :meth:`GridMap.add_scan`)."""
 RAY_STEPS_PER_CELL = 2
-"""Rays are sampled this many times per cell they cross (on each layer)."""
+"""Rays are sampled this many times per cell side of the layer they mark (every half cell)."""
 OBSTACLE_REACH_M = 0.3
 """Unknown floor this near a remembered obstacle cell is never taken for floor by waiting: a
 camera that saw one side of an obstacle has not seen how far it goes on (a box's unseen
