@@ -100,9 +100,11 @@ class GridMap:
 
     def _lattice_index(self, xy_um: np.ndarray, resolution_um: int,
                        cells: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(i, j, inside) of points ``xy_um`` (N x 2, um) on a layer of ``cells`` x ``cells``
-        cells of ``resolution_um`` from the origin; indices are clipped where outside."""
-        ij = (xy_um - self._origin_um) // resolution_um
+        """(i, j, inside) of points ``xy_um`` (N x 2, whole um, integers or integer-valued
+        floats) on a layer of ``cells`` x ``cells`` cells of ``resolution_um`` from the origin;
+        indices are clipped where outside. The floor of the rounded quotient of two integers
+        below 2^52 is exactly the integer quotient."""
+        ij = np.floor((xy_um - self._origin_um) / resolution_um).astype(np.int64)
         inside = np.all((ij >= 0) & (ij < cells), axis=1)
         ij = np.clip(ij, 0, cells - 1)
         return ij[:, 0], ij[:, 1], inside
@@ -347,11 +349,14 @@ def _within(points_um: np.ndarray, centre_um: np.ndarray, radius_um: int) -> np.
 
 def _ray_samples(origin: np.ndarray, offsets: np.ndarray, squared: np.ndarray,
                  step_um: int) -> Tuple[np.ndarray, np.ndarray]:
-    """(points N x M x 2 um, distances M um) of the samples every ``step_um`` from ``origin``
-    (1 x 2 um) along the rays to ``origin + offsets`` (N x 2 um; ``squared`` their squared
-    lengths), as many as the longest ray holds. Each point is the nearest lattice point to the
-    exact one, from integers by * / sqrt alone."""
+    """(points N x M x 2, distances M) in whole um of the samples every ``step_um`` from
+    ``origin`` (1 x 2 um) along the rays to ``origin + offsets`` (N x 2 um; ``squared`` their
+    squared lengths), as many as the longest ray holds. Each point is the lattice point
+    nearest to the exact one, as integer-valued floats: from integers by * / sqrt alone."""
     distances = np.arange(math.isqrt(int(squared.max())) // step_um + 1, dtype=np.int64) * step_um
     lengths = np.maximum(np.sqrt(squared.astype(float)), 1.0)
-    along = np.rint(distances[None, :, None] * offsets[:, None, :] / lengths[:, None, None])
-    return origin[None, :, :] + along.astype(np.int64), distances
+    points = distances.astype(float)[None, :, None] * offsets.astype(float)[:, None, :]
+    points /= lengths[:, None, None]
+    np.rint(points, out=points)
+    points += origin[None, :, :]
+    return points, distances
