@@ -7,7 +7,7 @@ import numpy as np
 import pybullet
 import pytest
 
-from can_seeker.camera_geometry import (camera_pose_from_mount, floor_point,
+from can_seeker.camera_geometry import (CameraPose, camera_pose_from_mount, floor_point,
                                         intrinsics_from_vertical_fov, project_floor_points)
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.world import CameraSpec, World
@@ -39,6 +39,18 @@ def test_geometry_spans_the_view_and_the_visible_floor():
     assert scan_geometry(POSE, INTRINSICS, 0.1) is None
     level = camera_pose_from_mount(CameraMount(0.25, -30.0))
     assert scan_geometry(level, INTRINSICS, 4.0) is None
+
+
+def test_a_level_camera_over_the_scan_origin_has_one_bin_per_column():
+    """Level, every row's columns span the same angles about the camera's own floor point, so
+    the view is exactly as many bins wide as the centre row's columns, whatever the last bits
+    of each row's arctan2."""
+    level = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    for width, height in ((320, 240), (640, 480)):
+        intrinsics = intrinsics_from_vertical_fov(width, height, 45.0)
+        for height_m in (0.1, 0.2, 0.25, 0.3, 0.5):
+            geometry = scan_geometry(CameraPose((0.0, 0.0, height_m), level), intrinsics, 4.0)
+            assert geometry.bins == width
 
 
 def test_column_base_range_is_the_floor_ray_of_its_lower_edge():

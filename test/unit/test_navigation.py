@@ -60,6 +60,41 @@ def test_rays_passing_through_clear_an_obstacle_that_moved():
     assert not grid.occupied()[grid.cell_of(1.0, 0.0)]
 
 
+def nudged(values, steps):
+    """``values`` moved ``steps`` ulps, up for positive ``steps``, down for negative."""
+    values = np.asarray(values, float)
+    for _ in range(abs(steps)):
+        values = np.nextafter(values, math.copysign(math.inf, steps))
+    return values
+
+
+def test_rays_a_few_ulps_off_mark_the_same_cells():
+    """Rays from a cell corner to cell boundaries, each a whole number of ray steps long and
+    some blind for the first few steps, mark the same cells when their origin and ends move a
+    few ulps either way (as a sin or cos from another CPU's SIMD kernels moves them); so does
+    the camera's wedge from there."""
+    origin = np.array([0.1, -0.2])
+    offsets = np.array([[0.6, 0.0], [0.0, 0.5], [-0.3, 0.4], [0.3, -0.4], [0.8, 0.6],
+                        [-0.6, -0.8], [0.0, -0.45], [-0.45, 0.0], [0.3, 0.0], [0.0, 0.35]])
+    hits = np.array([False, True, False, True, False, True, False, True, True, True])
+
+    def layers(origin_steps, end_steps):
+        grid = GridMap(0.1, 4.0)
+        for stamp_s in (0.0, 1.0):
+            grid.add_scan(nudged(origin, origin_steps), nudged(origin + offsets, end_steps),
+                          hits, 0.25, stamp_s)
+        grid.mark_seen(nudged(origin, origin_steps), nudged(math.pi / 2.0, end_steps),
+                       math.radians(30.0), 0.25, 1.0)
+        return grid.evidence, grid.observed, grid.seen, grid.blind_s, grid.blind_disc_s
+
+    exact = layers(0, 0)
+    assert (exact[0] < 0).sum() > 10 and (exact[0] > 0).sum() == hits.sum() and exact[2].sum() > 10
+    for steps in (-4, -3, -2, -1, 1, 2, 3, 4):
+        for origin_steps, end_steps in ((steps, steps), (steps, -steps), (0, steps)):
+            for layer, expected in zip(layers(origin_steps, end_steps), exact):
+                np.testing.assert_array_equal(layer, expected)
+
+
 def test_camera_coverage_is_a_wedge_that_stops_at_obstacles():
     grid = GridMap(0.1, 8.0)
     grid.add_scan((0.0, 0.0), np.array([[1.05, 0.0]]), np.array([True]))
@@ -145,6 +180,20 @@ def test_frontier_keeps_its_goal_until_another_costs_clearly_less():
     nearer = planner.frontier_goal(distance, seen, blocked, (20, 20), turned, 0.1, 0.3, 6,
                                    previous=ahead, switch_m=0.5)
     assert nearer != ahead
+
+
+def test_of_two_mirror_goals_the_frontier_picks_one_whatever_the_heading_s_last_bits():
+    """Facing the seen square's diagonal, two goals mirror each other about the heading at the
+    same cost: a heading a few ulps off either way (as another CPU's kernels may compute it)
+    picks the same one."""
+    seen = np.zeros((30, 30), bool)
+    seen[10:20, 10:20] = True
+    blocked = np.zeros_like(seen)
+    distance = planner.wavefront(~blocked, (15, 15))
+    goals = {planner.frontier_goal(distance, seen, blocked, (15, 15),
+                                   float(nudged(math.pi / 4.0, steps)), 0.1, 0.3, 6)
+             for steps in range(-4, 5)}
+    assert len(goals) == 1 and goals <= {(18, 20), (20, 18)}
 
 
 def test_no_frontier_when_everything_reachable_was_seen():
@@ -736,10 +785,11 @@ def test_floor_beside_the_robot_that_no_ray_reached_keeps_it_from_arcing_there()
 def test_a_cell_the_rays_call_free_may_still_hold_an_unobserved_corner():
     """Rays graze an obstacle's corner at (0.45, 0.45): they clear the coarse cell it stands
     in (0.4-0.5 m square, most of it floor), but the fine cells beyond the corner stay unknown,
-    and the robot keeps off them."""
+    and the robot keeps off them. The 42 deg ray's sample 0.6 m out enters that cell, well
+    short of the ray's end (not on the knife edge of a ray exactly 12 steps long)."""
     navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
-    grazing = fan(38.0, 42.0, 0.6)                            # short of the corner's shadow
+    grazing = fan(38.0, 42.0, 0.62)                           # short of the corner's shadow
     elsewhere = np.concatenate((fan(-180.0, 37.0, 2.0), fan(54.0, 179.0, 2.0)))
     ends = np.concatenate((grazing, elsewhere))
     navigator.add_scan(ends, np.zeros(len(ends), bool), (0.0, 0.0), navigator.pose)

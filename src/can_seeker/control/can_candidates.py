@@ -6,11 +6,17 @@ can across the room as a few returns: a short run of neighbouring returns, no wi
 and its beam spread, nearer than the returns on both sides of it (it stands in front of what
 is behind it). Visiting such places first, camera pointed at them, finds the can sooner;
 anything else that small (a thin post) costs one look.
+
+Widths, gaps and ranges are compared on the micrometre (and bearings on the microradian)
+lattice of :mod:`can_seeker.lattice`, so returns placed by sin and cos decide the same on every
+CPU.
 """
 import math
 from typing import List
 
 import numpy as np
+
+from can_seeker.lattice import lattice
 
 MAX_WIDTH_M = 0.12
 """Widest run of returns that may be a can (a can is 0.066 m across; beams add their spread)."""
@@ -31,7 +37,7 @@ def all_round(ends_xy: np.ndarray, origin_xy) -> bool:
     bearings = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
     widest_gap = max(float(np.max(np.diff(bearings))),
                      2.0 * math.pi - float(bearings[-1] - bearings[0]))
-    return 2.0 * math.pi - widest_gap >= ALL_ROUND_RAD
+    return bool(lattice(2.0 * math.pi - widest_gap) >= lattice(ALL_ROUND_RAD))
 
 
 def small_objects(ends_xy: np.ndarray, hits: np.ndarray, origin_xy) -> List[np.ndarray]:
@@ -43,7 +49,11 @@ def small_objects(ends_xy: np.ndarray, hits: np.ndarray, origin_xy) -> List[np.n
     ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
     hits = np.asarray(hits, bool).reshape(-1)
     origin = np.asarray(origin_xy, float)
-    ranges = np.linalg.norm(ends_xy - origin, axis=1)
+    ends_um = lattice(ends_xy)
+    offsets_um = ends_um - lattice(origin)
+    ranges_um = np.rint(np.sqrt((offsets_um * offsets_um).sum(axis=1))).astype(np.int64)
+    join_um, width_um, stands_out_um = (int(lattice(m))
+                                        for m in (JOIN_M, MAX_WIDTH_M, STANDS_OUT_M))
     found = []
     count = len(ends_xy)
     start = 0
@@ -53,16 +63,20 @@ def small_objects(ends_xy: np.ndarray, hits: np.ndarray, origin_xy) -> List[np.n
             continue
         end = start
         while (end + 1 < count and hits[end + 1]
-               and np.linalg.norm(ends_xy[end + 1] - ends_xy[end]) < JOIN_M):
+               and _squared(ends_um[end + 1] - ends_um[end]) < join_um * join_um):
             end += 1
-        width = float(np.linalg.norm(ends_xy[end] - ends_xy[start]))
-        farthest = float(ranges[start:end + 1].max())
+        farthest_um = int(ranges_um[start:end + 1].max())
         sides = [index for index in (start - 1, end + 1) if 0 <= index < count]
         free = len(sides) == 2 and all(
-            not hits[index] or ranges[index] > farthest + STANDS_OUT_M for index in sides)
-        if width <= MAX_WIDTH_M and free:
+            not hits[index] or ranges_um[index] > farthest_um + stands_out_um for index in sides)
+        if _squared(ends_um[end] - ends_um[start]) <= width_um * width_um and free:
             centre = ends_xy[start:end + 1].mean(axis=0)
             away = (centre - origin) / max(float(np.linalg.norm(centre - origin)), 1e-9)
             found.append(centre + away * MAX_WIDTH_M / 4.0)
         start = end + 1
     return found
+
+
+def _squared(offset_um: np.ndarray) -> int:
+    """Squared length (um^2, exact) of an offset in whole micrometres."""
+    return int((offset_um * offset_um).sum())

@@ -27,6 +27,14 @@ Two layers over the same square cells:
 
 Arrays are indexed ``[ix, iy]``; cell (ix, iy) spans ``origin + (ix, iy) * resolution`` to one
 resolution further. Odom positions outside the grid are ignored.
+
+Every discrete decision (the cell a point is in, the samples along a ray, which of them lie
+along its free part, what lies within a radius) is taken on positions snapped to whole
+micrometres (:mod:`can_seeker.lattice`), in integer arithmetic or in floats computed
+from those integers by + - * / sqrt alone, so the same scan marks the same cells on every CPU:
+a point meant to lie on a cell boundary lies exactly on it, whatever the last bit of the sin
+or cos that placed it. The resolution is taken to the nearest multiple of 4 um, so each cell
+and each ray step is a whole number of micrometres.
 """
 import math
 from typing import Dict, Optional, Tuple
@@ -35,15 +43,18 @@ import numpy as np
 
 from can_seeker.control.elapsed import elapsed_s
 from can_seeker.control.planner import inflate
+from can_seeker.lattice import SCALE, ceil_div, lattice
 
 HIT_EVIDENCE = 4
 MISS_EVIDENCE = 1
 EVIDENCE_LIMIT = 12
 OBSERVED_SUBDIVISION = 2
+"""Observed floor is kept on cells this many times finer than the obstacle grid's."""
 BLIND_EDGE_M = 0.01
 """A return this near to a scan's range_min or nearer lies at the edge of its blind zone (see
 :meth:`GridMap.add_scan`)."""
-"""Observed floor is kept on cells this many times finer than the obstacle grid's."""
+RAY_STEPS_PER_CELL = 2
+"""Rays are sampled this many times per cell side of the layer they mark (every half cell)."""
 OBSTACLE_REACH_M = 0.3
 """Unknown floor this near a remembered obstacle cell is never taken for floor by waiting: a
 camera that saw one side of an obstacle has not seen how far it goes on (a box's unseen
@@ -54,12 +65,16 @@ class GridMap:
     """Obstacle evidence and camera coverage of a ``size_m`` square centred on the odom origin."""
 
     def __init__(self, resolution_m: float, size_m: float):
-        self.resolution_m = float(resolution_m)
-        self.cells = max(1, int(math.ceil(size_m / resolution_m)))
-        self.origin_m = -self.cells * self.resolution_m / 2.0
+        steps = OBSERVED_SUBDIVISION * RAY_STEPS_PER_CELL
+        self._resolution_um = steps * max(1, int(round(float(resolution_m) * SCALE / steps)))
+        self._fine_um = self._resolution_um // OBSERVED_SUBDIVISION
+        self.resolution_m = self._resolution_um / SCALE
+        self.cells = max(1, int(ceil_div(int(lattice(size_m)), self._resolution_um)))
+        self._origin_um = -(self.cells * self._resolution_um // 2)
+        self.origin_m = self._origin_um / SCALE
         self.evidence = np.zeros((self.cells, self.cells), np.int16)
         self.seen = np.zeros((self.cells, self.cells), bool)
-        self.observed_resolution_m = self.resolution_m / OBSERVED_SUBDIVISION
+        self.observed_resolution_m = self._fine_um / SCALE
         self.observed = np.zeros((self.cells * OBSERVED_SUBDIVISION,) * 2, bool)
         self.blind_s = np.zeros((self.cells, self.cells))
         self.blind_disc_s = np.zeros((self.cells, self.cells))
@@ -81,11 +96,24 @@ class GridMap:
 
     def index_of(self, xy: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(ix, iy, inside) of odom points ``xy`` (N x 2); indices are clipped where outside."""
-        ij = np.floor((np.asarray(xy, float).reshape(-1, 2) - self.origin_m)
-                      / self.resolution_m).astype(int)
-        inside = np.all((ij >= 0) & (ij < self.cells), axis=1)
-        ij = np.clip(ij, 0, self.cells - 1)
+        return self._lattice_index(lattice(xy).reshape(-1, 2), self._resolution_um, self.cells)
+
+    def _lattice_index(self, xy_um: np.ndarray, resolution_um: int,
+                       cells: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(i, j, inside) of points ``xy_um`` (N x 2, whole um, integers or integer-valued
+        floats) on a layer of ``cells`` x ``cells`` cells of ``resolution_um`` from the origin;
+        indices are clipped where outside. The floor of the rounded quotient of two integers
+        below 2^52 is exactly the integer quotient."""
+        ij = np.floor((xy_um - self._origin_um) / resolution_um).astype(np.int64)
+        inside = np.all((ij >= 0) & (ij < cells), axis=1)
+        ij = np.clip(ij, 0, cells - 1)
         return ij[:, 0], ij[:, 1], inside
+
+    def _centres_um(self, i, j, resolution_um: int) -> np.ndarray:
+        """(x, y) um of the centres of cells (i, j) on a layer of ``resolution_um``."""
+        return np.stack((self._origin_um + np.asarray(i) * resolution_um + resolution_um // 2,
+                         self._origin_um + np.asarray(j) * resolution_um + resolution_um // 2),
+                        axis=-1)
 
     def cell_of(self, x_m: float, y_m: float) -> Optional[Tuple[int, int]]:
         """The cell holding odom point (x, y), or None outside the grid."""
@@ -94,8 +122,7 @@ class GridMap:
 
     def centre_of(self, ix, iy) -> np.ndarray:
         """Odom (x, y) of cell centres (arrays broadcast)."""
-        return np.stack((self.origin_m + (np.asarray(ix) + 0.5) * self.resolution_m,
-                         self.origin_m + (np.asarray(iy) + 0.5) * self.resolution_m), axis=-1)
+        return self._centres_um(ix, iy, self._resolution_um) / SCALE
 
     def occupied(self) -> np.ndarray:
         """Cells with more evidence of an obstacle than of free floor."""
@@ -116,45 +143,51 @@ class GridMap:
         blind-disc time of every cell within ``clear_from_m`` (at any bearing) and to the blind
         time of the cells along the rays there, except the obstacle cells along a ray whose hit
         lies within :data:`BLIND_EDGE_M` of ``clear_from_m``: the obstacle seen at the edge of
-        the blind zone may reach into it, so their blind time starts again."""
+        the blind zone may reach into it, so their blind time starts again. Each ray is sampled
+        every half resolution from its origin; a sample counts along the ray while it is no
+        farther from the origin than the ray's end (one resolution nearer for a hit, so the
+        hit's own cell stays occupied)."""
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
         previous_s = self.scan_s.get(source)
         elapsed = 0.0 if previous_s is None else elapsed_s(stamp_s, previous_s)
         self.scan_s[source] = stamp_s
+        origin = lattice(origin_xy).reshape(1, 2)
+        clear_um = int(lattice(clear_from_m))
         disc_window = None
-        if clear_from_m > 0.0 and elapsed > 0.0:
-            ix, iy = self._window(origin_xy, clear_from_m)
-            centres = self.centre_of(*np.meshgrid(ix, iy, indexing='ij'))
-            disc = np.linalg.norm(centres - np.asarray(origin_xy, float), axis=-1) <= clear_from_m
+        if clear_um > 0 and elapsed > 0.0:
+            ix, iy = self._window(origin[0], clear_um, self._resolution_um, self.cells)
+            centres = self._centres_um(*np.meshgrid(ix, iy, indexing='ij'), self._resolution_um)
+            disc = _within(centres, origin[0], clear_um)
             disc_window = np.ix_(ix, iy), disc
             self.blind_disc_s[disc_window[0]] += np.where(disc, elapsed, 0.0)
         if len(ends_xy) == 0:
             if disc_window is not None:
                 self.blind_s[disc_window[0]] += np.where(disc_window[1], elapsed, 0.0)
             return
-        origin = np.asarray(origin_xy, float).reshape(1, 2)
-        step_m = self.resolution_m / 2.0
-        lengths = np.linalg.norm(ends_xy - origin, axis=1)
-        # free samples end one resolution short of a hit, so the hit's own cell stays occupied
-        free_lengths = np.where(hits, lengths - self.resolution_m, lengths)
-        samples = int(np.ceil(max(float(lengths.max()), step_m) / step_m)) + 1
-        fractions = np.arange(samples) * step_m
-        directions = (ends_xy - origin) / np.maximum(lengths, 1e-9)[:, None]
-        points = origin[None, :, :] + fractions[None, :, None] * directions[:, None, :]
-        along = fractions[None, :] <= free_lengths[:, None]
-        beyond_blind = fractions[None, :] >= clear_from_m
+        hits = np.asarray(hits, bool).reshape(-1)
+        ends = lattice(ends_xy)
+        offsets = ends - origin
+        squared = (offsets * offsets).sum(axis=1)
+        points, fractions = _ray_samples(origin, offsets, squared,
+                                         self._resolution_um // RAY_STEPS_PER_CELL)
+        reach = fractions[None, :] + np.where(hits, self._resolution_um, 0)[:, None]
+        along = reach * reach <= squared[:, None]
+        beyond_blind = fractions[None, :] >= clear_um
         free = self._cells(points[along & beyond_blind])
-        within_blind = (fractions[None, :] <= lengths[:, None]) & ~beyond_blind
+        within_blind = (fractions * fractions)[None, :] <= squared[:, None]
+        within_blind &= ~beyond_blind
         blind = self._cells(points[within_blind])
-        at_edge = np.asarray(hits, bool) & (lengths <= clear_from_m + BLIND_EDGE_M)
+        edge_um = clear_um + int(lattice(BLIND_EDGE_M))
+        at_edge = hits & (squared <= edge_um * edge_um)
         kept = (self._cells(points[within_blind & at_edge[:, None]]) & (self.evidence > 0)
                 if at_edge.any() else None)
         if disc_window is not None:
             blind[disc_window[0]] |= disc_window[1]
-        hits = np.asarray(hits, bool)
         # nearest to the sensor first: where one cell has several hits, that one is kept
-        hit_xy = ends_xy[hits][np.argsort(lengths[hits], kind='stable')]
-        hx, hy, hit_inside = self.index_of(hit_xy)
+        nearest_first = np.argsort(squared[hits], kind='stable')
+        hit_xy = ends_xy[hits][nearest_first]
+        hx, hy, hit_inside = self._lattice_index(ends[hits][nearest_first], self._resolution_um,
+                                                 self.cells)
         hx, hy, hit_xy = hx[hit_inside], hy[hit_inside], hit_xy[hit_inside]
         _, first = np.unique(hx * self.cells + hy, return_index=True)
         hit = np.zeros_like(self.seen)
@@ -162,7 +195,7 @@ class GridMap:
         self.hit_xy[hx[first], hy[first]] = hit_xy[first]
         free &= ~hit
         blind &= ~hit
-        self._observe_rays(origin, directions, lengths, hits, clear_from_m)
+        self._observe_rays(origin, ends, offsets, squared, hits, clear_um)
         self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
         self.blind_s[hit] = 0.0
@@ -170,32 +203,23 @@ class GridMap:
         if kept is not None:
             self.blind_s[kept] = 0.0
 
-    def _observe_rays(self, origin: np.ndarray, directions: np.ndarray, lengths: np.ndarray,
-                      hits: np.ndarray, clear_from_m: float) -> None:
-        """Mark the fine cells along the rays from ``clear_from_m`` on as observed, up to one
-        fine cell short of a hit, and the hit's own fine cell."""
-        step_m = self.observed_resolution_m / 2.0
-        free_lengths = np.where(hits, lengths - self.observed_resolution_m, lengths)
-        fractions = np.arange(int(np.ceil(max(float(lengths.max()), step_m) / step_m)) + 1) \
-            * step_m
-        points = origin[None, :, :] + fractions[None, :, None] * directions[:, None, :]
-        free = ((fractions[None, :] <= free_lengths[:, None])
-                & (fractions[None, :] >= clear_from_m))
-        ends = origin + lengths[hits][:, None] * directions[hits]
-        fx, fy, inside = self._fine_index(np.concatenate((points[free], ends)))
+    def _observe_rays(self, origin: np.ndarray, ends: np.ndarray, offsets: np.ndarray,
+                      squared: np.ndarray, hits: np.ndarray, clear_um: int) -> None:
+        """Mark the fine cells along the rays (from ``origin`` to ``ends``, um; ``offsets``
+        between them, ``squared`` their squared lengths) from ``clear_um`` on as observed, up
+        to one fine cell short of a hit, and the hit's own fine cell."""
+        points, fractions = _ray_samples(origin, offsets, squared,
+                                         self._fine_um // RAY_STEPS_PER_CELL)
+        reach = fractions[None, :] + np.where(hits, self._fine_um, 0)[:, None]
+        free = (reach * reach <= squared[:, None]) & (fractions[None, :] >= clear_um)
+        fx, fy, inside = self._lattice_index(np.concatenate((points[free], ends[hits])),
+                                             self._fine_um, len(self.observed))
         self.observed[fx[inside], fy[inside]] = True
 
-    def _fine_index(self, xy: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(fx, fy, inside) of odom points on the observed layer's cells (clipped outside)."""
-        ij = np.floor((np.asarray(xy, float).reshape(-1, 2) - self.origin_m)
-                      / self.observed_resolution_m).astype(int)
-        inside = np.all((ij >= 0) & (ij < len(self.observed)), axis=1)
-        ij = np.clip(ij, 0, len(self.observed) - 1)
-        return ij[:, 0], ij[:, 1], inside
-
-    def _cells(self, xy: np.ndarray) -> np.ndarray:
-        """Boolean grid of the cells holding any of the odom points ``xy`` (outside: none)."""
-        ix, iy, inside = self.index_of(xy)
+    def _cells(self, xy_um: np.ndarray) -> np.ndarray:
+        """Boolean grid of the cells holding any of the points ``xy_um`` (outside: none)."""
+        ix, iy, inside = self._lattice_index(xy_um.reshape(-1, 2), self._resolution_um,
+                                             self.cells)
         cells = np.zeros_like(self.seen)
         cells[ix[inside], iy[inside]] = True
         return cells
@@ -205,31 +229,32 @@ class GridMap:
         """Mark the floor wedge the camera covers: bearings within ``half_fov_rad`` of
         ``heading_rad``, from ``near_m`` to ``far_m`` from ``camera_xy`` (odom), each ray
         stopping at the first known obstacle."""
-        if far_m <= near_m:
+        near_um, far_um = int(lattice(near_m)), int(lattice(far_m))
+        if far_um <= near_um:
             return
-        step_m = self.resolution_m / 2.0
-        rays = int(math.ceil(2.0 * half_fov_rad * far_m / step_m)) + 1
+        step_um = self._resolution_um // RAY_STEPS_PER_CELL
+        rays = int(ceil_div(int(lattice(2.0 * half_fov_rad * far_m)), step_um)) + 1
         bearings = heading_rad + np.linspace(-half_fov_rad, half_fov_rad, rays)
-        distances = np.arange(0.0, far_m + 1e-9, step_m)
+        distances_um = np.arange(far_um // step_um + 1) * step_um
         points = (np.asarray(camera_xy, float)[None, None, :]
-                  + distances[None, :, None]
+                  + (distances_um / SCALE)[None, :, None]
                   * np.stack((np.cos(bearings), np.sin(bearings)), axis=-1)[:, None, :])
         ix, iy, inside = self.index_of(points.reshape(-1, 2))
-        blocked = (self.occupied()[ix, iy] | ~inside).reshape(rays, len(distances))
+        blocked = (self.occupied()[ix, iy] | ~inside).reshape(rays, len(distances_um))
         visible = ~np.maximum.accumulate(blocked, axis=1)
-        visible &= distances[None, :] >= near_m
+        visible &= distances_um[None, :] >= near_um
         visible = visible.reshape(-1)
         self.seen[ix[visible], iy[visible]] = True
 
     def mark_observed(self, centre_xy, radius_m: float) -> None:
         """Count the fine cells whose centres lie within ``radius_m`` of odom point
         ``centre_xy`` as observed free floor (under the robot's body: it stands there)."""
-        fx, fy = self._fine_window(centre_xy, radius_m)
+        centre, radius_um = lattice(centre_xy).reshape(2), int(lattice(radius_m))
+        fx, fy = self._window(centre, radius_um, self._fine_um, len(self.observed))
         if len(fx) == 0 or len(fy) == 0:
             return
-        centres = self._fine_centres(*np.meshgrid(fx, fy, indexing='ij'))
-        near = np.linalg.norm(centres - np.asarray(centre_xy, float), axis=-1) <= radius_m
-        self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= near
+        centres = self._centres_um(*np.meshgrid(fx, fy, indexing='ij'), self._fine_um)
+        self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= _within(centres, centre, radius_um)
 
     def unknown_points(self, centre_xy, radius_m: float, max_blind_disc_s: float = np.inf,
                        max_blind_s: float = np.inf) -> np.ndarray:
@@ -241,7 +266,8 @@ class GridMap:
         (see :meth:`obstacle_points`): an obstacle seen from one side goes on into the unknown
         floor next to it, and a robot that waits beside it would otherwise take its unseen
         side for floor."""
-        fx, fy = self._fine_window(centre_xy, radius_m)
+        centre, radius_um = lattice(centre_xy).reshape(2), int(lattice(radius_m))
+        fx, fy = self._window(centre, radius_um, self._fine_um, len(self.observed))
         if len(fx) == 0 or len(fy) == 0:
             return np.zeros((0, 2))
         gx, gy = np.meshgrid(fx, fy, indexing='ij')
@@ -250,47 +276,29 @@ class GridMap:
         if not waiting.all():
             waiting |= self._near_obstacles(cx, cy, max_blind_s)
         unknown = ~self.observed[gx, gy] & (self.evidence[cx, cy] <= 0) & waiting
-        points = self._fine_centres(gx[unknown], gy[unknown]).reshape(-1, 2)
-        near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
-        return points[near]
+        points = self._centres_um(gx[unknown], gy[unknown], self._fine_um).reshape(-1, 2)
+        return points[_within(points, centre, radius_um)] / SCALE
 
     def _near_obstacles(self, cx: np.ndarray, cy: np.ndarray, max_blind_s: float) -> np.ndarray:
         """Which of the coarse cells ``(cx, cy)`` (index arrays of one shape) lie within
         :data:`OBSTACLE_REACH_M` of an occupied cell that scans have had in their blind zone
         for less than ``max_blind_s``."""
-        reach = int(math.ceil(OBSTACLE_REACH_M / self.resolution_m))
+        reach_um = int(lattice(OBSTACLE_REACH_M))
+        reach = int(ceil_div(reach_um, self._resolution_um))
         x0, y0 = max(0, int(cx.min()) - reach), max(0, int(cy.min()) - reach)
         x1 = min(self.cells, int(cx.max()) + reach + 1)
         y1 = min(self.cells, int(cy.max()) + reach + 1)
         occupied = (self.evidence[x0:x1, y0:y1] > 0) & (self.blind_s[x0:x1, y0:y1] < max_blind_s)
-        near = inflate(occupied, OBSTACLE_REACH_M / self.resolution_m)
+        near = inflate(occupied, reach_um / self._resolution_um)
         return near[cx - x0, cy - y0]
 
-    def _window(self, centre_xy, radius_m: float) -> Tuple[np.ndarray, np.ndarray]:
-        """Index ranges (ix, iy) of the cells in the square around ``centre_xy`` holding the
-        circle of ``radius_m`` (empty outside the grid)."""
-        return self._index_window(centre_xy, radius_m, self.resolution_m, self.cells)
-
-    def _fine_centres(self, fx, fy) -> np.ndarray:
-        """Odom (x, y) of observed-layer cell centres (arrays broadcast)."""
-        return np.stack((self.origin_m + (np.asarray(fx) + 0.5) * self.observed_resolution_m,
-                         self.origin_m + (np.asarray(fy) + 0.5) * self.observed_resolution_m),
-                        axis=-1)
-
-    def _fine_window(self, centre_xy, radius_m: float) -> Tuple[np.ndarray, np.ndarray]:
-        """Index ranges (fx, fy) of the observed layer's cells in the square around
-        ``centre_xy`` holding the circle of ``radius_m`` (empty outside the grid)."""
-        return self._index_window(centre_xy, radius_m, self.observed_resolution_m,
-                                  len(self.observed))
-
-    def _index_window(self, centre_xy, radius_m: float, resolution_m: float,
-                      cells: int) -> Tuple[np.ndarray, np.ndarray]:
-        """Index ranges of the square around ``centre_xy`` holding the circle of ``radius_m``
-        on a layer of ``cells`` x ``cells`` cells of ``resolution_m``, clipped to it."""
-        centre = np.asarray(centre_xy, float)
-        low = np.floor((centre - radius_m - self.origin_m) / resolution_m).astype(int)
-        high = np.floor((centre + radius_m - self.origin_m) / resolution_m).astype(int)
-        low, high = np.maximum(low, 0), np.minimum(high, cells - 1)
+    def _window(self, centre_um: np.ndarray, radius_um: int, resolution_um: int,
+                cells: int) -> Tuple[np.ndarray, np.ndarray]:
+        """Index ranges of the square around ``centre_um`` (x, y um) holding the circle of
+        ``radius_um`` on a layer of ``cells`` x ``cells`` cells of ``resolution_um``, clipped
+        to it (empty outside the grid)."""
+        low = np.maximum((centre_um - radius_um - self._origin_um) // resolution_um, 0)
+        high = np.minimum((centre_um + radius_um - self._origin_um) // resolution_um, cells - 1)
         return np.arange(low[0], high[0] + 1), np.arange(low[1], high[1] + 1)
 
     def obstacle_points(self, centre_xy, radius_m: float,
@@ -299,8 +307,10 @@ class GridMap:
         scans have had in their blind zone for less than ``max_blind_s`` since one last hit
         them: where the last scan that hit each cell hit it (a cell's centre may lie half a
         cell behind the obstacle's surface)."""
-        cells = int(math.ceil(radius_m / self.resolution_m)) + 1
-        cx, cy, inside = self.index_of(np.asarray(centre_xy, float))
+        centre, radius_um = lattice(centre_xy).reshape(2), int(lattice(radius_m))
+        cells = int(ceil_div(radius_um, self._resolution_um)) + 1
+        cx, cy, inside = self._lattice_index(centre.reshape(1, 2), self._resolution_um,
+                                             self.cells)
         if not inside[0]:
             return np.zeros((0, 2))
         x0, x1 = max(0, cx[0] - cells), min(self.cells, cx[0] + cells + 1)
@@ -308,8 +318,7 @@ class GridMap:
         ox, oy = np.nonzero(self.occupied()[x0:x1, y0:y1]
                             & (self.blind_s[x0:x1, y0:y1] < max_blind_s))
         points = self.hit_xy[ox + x0, oy + y0].reshape(-1, 2)
-        near = np.linalg.norm(points - np.asarray(centre_xy, float), axis=1) <= radius_m
-        return points[near]
+        return points[_within(lattice(points), centre, radius_um)]
 
     def _occupancy_data(self, known: np.ndarray) -> np.ndarray:
         """nav_msgs/OccupancyGrid data (rows along y, columns along x, row-major from the origin
@@ -329,3 +338,25 @@ class GridMap:
         fine = OBSERVED_SUBDIVISION
         return self._occupancy_data(
             self.observed.reshape(self.cells, fine, self.cells, fine).any(axis=(1, 3)))
+
+
+def _within(points_um: np.ndarray, centre_um: np.ndarray, radius_um: int) -> np.ndarray:
+    """Which of ``points_um`` (..., 2, um) lie no farther than ``radius_um`` from
+    ``centre_um`` (exact: squared integer distances)."""
+    offsets = points_um - centre_um
+    return (offsets * offsets).sum(axis=-1) <= radius_um * radius_um
+
+
+def _ray_samples(origin: np.ndarray, offsets: np.ndarray, squared: np.ndarray,
+                 step_um: int) -> Tuple[np.ndarray, np.ndarray]:
+    """(points N x M x 2, distances M) in whole um of the samples every ``step_um`` from
+    ``origin`` (1 x 2 um) along the rays to ``origin + offsets`` (N x 2 um; ``squared`` their
+    squared lengths), as many as the longest ray holds. Each point is the lattice point
+    nearest to the exact one, as integer-valued floats: from integers by * / sqrt alone."""
+    distances = np.arange(math.isqrt(int(squared.max())) // step_um + 1, dtype=np.int64) * step_um
+    lengths = np.maximum(np.sqrt(squared.astype(float)), 1.0)
+    points = distances.astype(float)[None, :, None] * offsets.astype(float)[:, None, :]
+    points /= lengths[:, None, None]
+    np.rint(points, out=points)
+    points += origin[None, :, :]
+    return points, distances

@@ -15,6 +15,7 @@ import numpy as np
 from can_seeker.camera_geometry import CameraIntrinsics, CameraPose, floor_point
 from can_seeker.control import avoidance, can_candidates, planner
 from can_seeker.control.grid_map import GridMap
+from can_seeker.lattice import lattice
 
 PLAN_MARGIN_CELLS = 10
 SAFETY_HORIZON_M = 1.0
@@ -207,11 +208,15 @@ class Navigator:
                  view: CameraView) -> bool:
         """True when a can standing at odom ``point`` is in the camera's view: within its
         field of view, from ``near_m`` (its top enters the bottom row) to ``far_m``, with no
-        remembered obstacle on the line of sight short of :attr:`candidate_reach_m` from it."""
+        remembered obstacle on the line of sight short of :attr:`candidate_reach_m` from it
+        (compared on the lattice of :mod:`can_seeker.lattice`: a can right at the view's edge
+        is in it or not whatever the last bits of the arctan2 that place it and the edge)."""
         offset = point - camera_xy
         distance = float(np.hypot(*offset))
         bearing = avoidance.wrap_angle(math.atan2(offset[1], offset[0]) - heading_rad)
-        if not (view.near_m <= distance <= view.far_m and abs(bearing) <= view.half_fov_rad):
+        near_um, distance_um, far_um = lattice((view.near_m, distance, view.far_m))
+        if not (near_um <= distance_um <= far_um
+                and lattice(abs(bearing)) <= lattice(view.half_fov_rad)):
             return False
         along = np.arange(0.0, max(0.0, distance - self.candidate_reach_m),
                           self.grid.resolution_m / 2.0)

@@ -12,6 +12,8 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
+from can_seeker.lattice import lattice
+
 NEIGHBOURS = ((1, 0, 1.0), (-1, 0, 1.0), (0, 1, 1.0), (0, -1, 1.0),
               (1, 1, math.sqrt(2.0)), (1, -1, math.sqrt(2.0)),
               (-1, 1, math.sqrt(2.0)), (-1, -1, math.sqrt(2.0)))
@@ -135,9 +137,12 @@ def frontier_goal(distance: np.ndarray, seen: np.ndarray, blocked: np.ndarray,
         return None
 
     def costs(xs, ys):
+        """Costs in whole micrometres: cells whose costs are equal but for the last bits of
+        the arctan2, sin and cos in their turns tie, and the first of them wins on every
+        CPU."""
         bearings = np.arctan2(ys - robot_cell[1], xs - robot_cell[0]) - heading_rad
         turns = np.abs(np.arctan2(np.sin(bearings), np.cos(bearings)))
-        return distance[xs, ys] * resolution_m + turn_cost_m_per_rad * turns
+        return lattice(distance[xs, ys] * resolution_m + turn_cost_m_per_rad * turns)
 
     goal_costs = costs(xs, ys)
     best = int(np.argmin(goal_costs))
@@ -145,7 +150,7 @@ def frontier_goal(distance: np.ndarray, seen: np.ndarray, blocked: np.ndarray,
             and 0 <= previous[1] < seen.shape[1] and unseen_free[previous]
             and np.isfinite(distance[previous]) and distance[previous] > min_distance_cells
             and goal_costs[best] > costs(np.array([previous[0]]), np.array([previous[1]]))[0]
-            - switch_m):
+            - lattice(switch_m)):
         return int(previous[0]), int(previous[1])
     return int(xs[best]), int(ys[best])
 

@@ -22,6 +22,7 @@ from typing import Optional
 import cv2
 import numpy as np
 
+from can_seeker import lattice
 from can_seeker.camera_geometry import CameraIntrinsics, CameraPose, normalized_points
 from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param, defaults
@@ -171,7 +172,7 @@ def scan_geometry(pose: CameraPose, intrinsics: CameraIntrinsics, max_range_m: f
         increment = abs(float(centre_edges[0] - centre_edges[-1])) / width
     else:
         increment = (angle_max - angle_min) / width
-    bins = max(1, int(math.ceil((angle_max - angle_min) / increment)))
+    bins = max(1, int(lattice.ceil((angle_max - angle_min) / increment)))
     centre_rays = _rays(pose, intrinsics, u, v - 0.5)
     sky = (centre_rays[..., 2] / np.linalg.norm(centre_rays, axis=-1)
            >= math.sin(HORIZON_MARGIN_RAD))
@@ -268,16 +269,19 @@ def lowest_obstacle_rows(obstacles: np.ndarray, in_range: np.ndarray,
 
 def _column_bins(geometry: ScanGeometry, rows: np.ndarray, columns: np.ndarray):
     """(first, last) scan bins covered by each column's pixel at ``rows``: the bins between the
-    angles of its left and right edges, at least the bin of its centre."""
+    angles of its left and right edges, at least the bin of its centre. Positions in bins are
+    snapped to millionths of a bin first (:mod:`can_seeker.lattice`): an edge meant to lie on a
+    bin's centre, or a centre on a bin's edge, lies exactly there whatever the last bits of the
+    arctan2 that placed it."""
     edges = np.stack((geometry.edge_angle_rad[rows, columns],
                       geometry.edge_angle_rad[rows, columns + 1]))
     centre = (geometry.angle_rad[rows, columns] - geometry.angle_min) / geometry.angle_increment
     with np.errstate(invalid='ignore'):
-        first = np.ceil((np.nanmin(edges, axis=0) - geometry.angle_min)
-                        / geometry.angle_increment)
-        last = np.floor((np.nanmax(edges, axis=0) - geometry.angle_min)
-                        / geometry.angle_increment)
-    nearest = np.round(centre)
+        first = lattice.ceil((np.nanmin(edges, axis=0) - geometry.angle_min)
+                             / geometry.angle_increment)
+        last = lattice.floor((np.nanmax(edges, axis=0) - geometry.angle_min)
+                             / geometry.angle_increment)
+        nearest = np.round(lattice.snapped(centre))
     first = np.where(np.isfinite(first), np.minimum(first, nearest), nearest)
     last = np.where(np.isfinite(last), np.maximum(last, nearest), nearest)
     valid = np.isfinite(nearest)
