@@ -48,11 +48,11 @@ DETECTOR_PARAMS = (
           'red-orange and orange (1)', 0.0, 1.0),
     Param('value_min', 30, 'minimum red channel (brightness) of a red pixel, in both models '
           '(hsv: V, which is the red channel of a pixel of red hue) (0-255)', 0, 255),
-    Param('hue_max', 10, 'hsv: a red pixel has hue <= this, or >= ~hue_min_wrap '
+    Param('hue_max', 4, 'hsv: a red pixel has hue <= this, or >= ~hue_min_wrap '
           '(OpenCV hue, 0-180)', 0, 180),
-    Param('hue_min_wrap', 170, 'hsv: a red pixel has hue >= this, or <= ~hue_max '
+    Param('hue_min_wrap', 174, 'hsv: a red pixel has hue >= this, or <= ~hue_max '
           '(OpenCV hue, 0-180)', 0, 180),
-    Param('saturation_min', 120, 'hsv: minimum saturation of a red pixel, which '
+    Param('saturation_min', 170, 'hsv: minimum saturation of a red pixel, which '
           'rejects pink, skin and grey (0-255)', 0, 255),
     Param('min_area_fraction', 0.0005, 'smallest red blob reported, as a fraction of the image '
           'area (1)', 0.0, 1.0),
