@@ -50,7 +50,7 @@ DETECTOR_PARAMS = (
           '(hsv: V, which is the red channel of a pixel of red hue) (0-255)', 0, 255),
     Param('hue_max', 4, 'hsv: a red pixel has hue <= this, or >= ~hue_min_wrap '
           '(OpenCV hue, 0-180)', 0, 180),
-    Param('hue_min_wrap', 174, 'hsv: a red pixel has hue >= this, or <= ~hue_max '
+    Param('hue_min_wrap', 170, 'hsv: a red pixel has hue >= this, or <= ~hue_max '
           '(OpenCV hue, 0-180)', 0, 180),
     Param('saturation_min', 170, 'hsv: minimum saturation of a red pixel, which '
           'rejects pink, skin and grey (0-255)', 0, 255),
