@@ -6,9 +6,11 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.vision.image_decode import (MESSAGE_DECODERS, ImageDecodeError, NoColourError,
-                                     decode_bgr, decode_compressed_bgr, decode_compressed_msg,
-                                     decode_image_msg)
+from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, MESSAGE_DECODERS,
+                                            DecodedImage, ImageDecodeError, NoColourError,
+                                            decode_bgr, decode_compressed_bgr,
+                                            decode_compressed_msg, decode_image_msg,
+                                            transport_topic)
 
 HEIGHT, WIDTH = 4, 6
 
@@ -228,3 +230,18 @@ def test_16_bit_png_under_a_bare_format_is_rejected():
 def test_other_compressed_codecs_are_rejected_by_name(image_format):
     with pytest.raises(ImageDecodeError, match='unsupported compressed format'):
         decode_compressed_bgr(image_format, encoded(red_square_image(), '.png'))
+
+
+def test_transport_topics_follow_image_transport_naming():
+    assert transport_topic('/camera/image_raw', 'raw') == '/camera/image_raw'
+    assert transport_topic('/raspicam_node/image', 'compressed') == \
+        '/raspicam_node/image/compressed'
+    assert IMAGE_TRANSPORT_PARAM.default == 'raw'
+    assert IMAGE_TRANSPORT_PARAM.choices == ('raw', 'compressed')
+
+
+def test_decoded_image_keeps_the_header_and_takes_its_size_from_the_pixels():
+    header = SimpleNamespace(frame_id='camera_optical_frame')
+    image = DecodedImage(header, decode_compressed_bgr('png', encoded(red_square_image(), '.png')))
+    assert image.header is header
+    assert (image.width, image.height) == (320, 240)

@@ -19,7 +19,7 @@ from typing import Callable, List, Optional, Sequence, Tuple
 import cv2
 import numpy as np
 
-from can_seeker.vision.detector import RedCanDetector
+from can_seeker.vision.detector import DetectorSettings, RedCanDetector
 from can_seeker.vision.report import CanModel, can_report
 
 OPENCV_SAMPLES_DIR = '/usr/share/doc/opencv-doc/examples/data'
@@ -281,9 +281,11 @@ def build_set(world, pose, intrinsics) -> List[LabelledImage]:
     return load_photos() + render_cans(world, pose, intrinsics)
 
 
-def detector_decisions(images: Sequence[LabelledImage]) -> List[Decision]:
-    """The detector and report at their defaults, with the camera geometry of renders."""
-    detector = RedCanDetector()
+def detector_decisions(images: Sequence[LabelledImage],
+                       settings: Optional[DetectorSettings] = None) -> List[Decision]:
+    """The detector (at ``settings``, else its defaults) and the report, with the camera
+    geometry of renders."""
+    detector = RedCanDetector(settings)
     decisions = []
     for image in images:
         result = detector.detect(image.bgr)

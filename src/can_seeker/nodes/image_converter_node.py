@@ -1,7 +1,8 @@
 """image_converter: finds the red can in camera images and publishes a CanDetection per frame.
 
-Subscribes ``image`` (queue_size=1 and a large buff_size: always the newest frame) and
-``camera_info``; publishes ``~detection`` and, only while someone subscribes, ``~annotated``
+Subscribes ``image`` (sensor_msgs/Image; with ``~image_transport`` compressed
+``image/compressed``, sensor_msgs/CompressedImage, jpeg or png; queue_size=1 and a large
+buff_size: always the newest frame) and ``camera_info``; publishes ``~detection`` and, only while someone subscribes, ``~annotated``
 (bgr8), ``~mask`` and ``~edges`` (mono8), and /diagnostics (the rates and ages of the
 images and camera_info, what became of the recent frames). Thresholds are tunable with
 dynamic_reconfigure.
@@ -17,7 +18,7 @@ import numpy as np
 import rospy
 import tf2_ros
 from dynamic_reconfigure.server import Server
-from sensor_msgs.msg import CameraInfo, Image
+from sensor_msgs.msg import CameraInfo, CompressedImage, Image
 
 from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import intrinsics_from_camera_info
@@ -30,12 +31,17 @@ from can_seeker.params import read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import IMAGE_BUFF_SIZE, detection_msg, image_msg
-from can_seeker.vision.report import PARAMS, CanModel, can_report, fallback_pose
-from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
+from can_seeker.vision.report import PARAMS as REPORT_PARAMS
+from can_seeker.vision.report import CanModel, can_report, fallback_pose
+from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, MESSAGE_DECODERS,
+                                            DecodedImage, ImageDecodeError, NoColourError,
+                                            transport_topic)
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                         draw_annotation)
 
+PARAMS = REPORT_PARAMS + (IMAGE_TRANSPORT_PARAM,)
+IMAGE_MESSAGES = {'raw': Image, 'compressed': CompressedImage}
 ERROR_PERIOD_S = 5.0
 OPENCV_THREADS = 1
 """OpenCV worker threads: one frame's passes are too short to share (tens of microseconds at
@@ -96,9 +102,18 @@ class ImageConverterNode:
         self.diagnostics, self.image_monitor, self.info_monitor = image_diagnostics(
             self.outcomes)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
-        rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE,
-                         tcp_nodelay=True)
+        self.subscribe_images(self.config.image_transport)
         self.diagnostics.start()
+
+    def subscribe_images(self, transport):
+        """Subscribe ``image`` (or its ``transport`` topic) and pick the matching decoder."""
+        message_class = IMAGE_MESSAGES[transport]
+        self.decode = MESSAGE_DECODERS[message_class._type]
+        topic = transport_topic(rospy.resolve_name('image'), transport)
+        if transport != 'raw':
+            rospy.loginfo('image_converter: reading %s images from %s' % (transport, topic))
+        rospy.Subscriber(topic, message_class, self.on_image, queue_size=1,
+                         buff_size=IMAGE_BUFF_SIZE, tcp_nodelay=True)
 
     def _make_display(self, show):
         """Image windows when ~show is true and a window can be opened; else None (headless)."""
@@ -147,7 +162,7 @@ class ImageConverterNode:
     def on_image(self, msg):
         self.image_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
-            bgr = decode_image_msg(msg)
+            image = DecodedImage(msg.header, self.decode(msg))
         except NoColourError as error:
             rospy.logwarn_once('image_converter: %s' % error)
             self.outcomes.add('grey images: no colour to find red in', ERROR)
@@ -163,9 +178,10 @@ class ImageConverterNode:
         publish_edges = self.edges_pub.get_num_connections() > 0
         want_edges = self.display is not None or publish_edges
         want_annotated = self.annotated_pub.get_num_connections() > 0
+        bgr = image.bgr
         result = self.detector.detect(bgr, want_edges)
-        pose, intrinsics = self.camera_geometry(msg) if result.found else (None, None)
-        report = can_report(result.candidates, msg.width, msg.height, pose, intrinsics,
+        pose, intrinsics = self.camera_geometry(image) if result.found else (None, None)
+        report = can_report(result.candidates, image.width, image.height, pose, intrinsics,
                             self.can_model)
         self.publish_detection(msg, report)
         self.outcomes.add(*frame_outcome(result.found, report.range_m, intrinsics, pose,

@@ -1,7 +1,8 @@
 """obstacle_scan: camera images -> a planar LaserScan of the obstacles standing on the floor.
 
-Subscribes ``image`` (queue_size=1, large buff_size: always the newest frame) and
-``camera_info``; publishes ``camera_scan`` (sensor_msgs/LaserScan in ``~scan_frame``, stamped
+Subscribes ``image`` (sensor_msgs/Image; with ``~image_transport`` compressed
+``image/compressed``, sensor_msgs/CompressedImage, jpeg or png; queue_size=1, large
+buff_size: always the newest frame) and ``camera_info``; publishes ``camera_scan`` (sensor_msgs/LaserScan in ``~scan_frame``, stamped
 with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``~obstacles``
 (mono8), and /diagnostics (the rates and ages of the images and camera_info, whether the
 recent frames gave a scan and if not why). The camera pose comes from TF (``~scan_frame`` <-
@@ -18,7 +19,7 @@ import time
 
 import rospy
 import tf2_ros
-from sensor_msgs.msg import CameraInfo, Image, LaserScan
+from sensor_msgs.msg import CameraInfo, CompressedImage, Image, LaserScan
 from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.allocator import reuse_freed_memory
@@ -32,10 +33,14 @@ from can_seeker.ros.messages import IMAGE_BUFF_SIZE, image_msg, laser_scan
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
-from can_seeker.vision.image_decode import ImageDecodeError, NoColourError, decode_image_msg
+from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, MESSAGE_DECODERS,
+                                            DecodedImage, ImageDecodeError, NoColourError,
+                                            transport_topic)
 from can_seeker.vision.report import fallback_pose
 
-PARAMS = FLOOR_PARAMS + SCAN_PARAMS + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_PARAMS
+PARAMS = (FLOOR_PARAMS + SCAN_PARAMS + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_PARAMS
+          + (IMAGE_TRANSPORT_PARAM,))
+IMAGE_MESSAGES = {'raw': Image, 'compressed': CompressedImage}
 
 ERROR_PERIOD_S = 5.0
 
@@ -66,9 +71,18 @@ class ObstacleScanNode:
             self.outcomes)
         rospy.Service('~reset', Empty, self.on_reset)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
-        rospy.Subscriber('image', Image, self.on_image, queue_size=1, buff_size=IMAGE_BUFF_SIZE,
-                         tcp_nodelay=True)
+        self.subscribe_images(self.config.image_transport)
         self.diagnostics.start()
+
+    def subscribe_images(self, transport):
+        """Subscribe ``image`` (or its ``transport`` topic) and pick the matching decoder."""
+        message_class = IMAGE_MESSAGES[transport]
+        self.decode = MESSAGE_DECODERS[message_class._type]
+        topic = transport_topic(rospy.resolve_name('image'), transport)
+        if transport != 'raw':
+            rospy.loginfo('obstacle_scan: reading %s images from %s' % (transport, topic))
+        rospy.Subscriber(topic, message_class, self.on_image, queue_size=1,
+                         buff_size=IMAGE_BUFF_SIZE, tcp_nodelay=True)
 
     def on_reset(self, _request):
         with self.scanner_lock:
@@ -100,7 +114,7 @@ class ObstacleScanNode:
     def on_image(self, msg):
         self.image_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
-            bgr = decode_image_msg(msg)
+            image = DecodedImage(msg.header, self.decode(msg))
         except NoColourError as error:
             rospy.logwarn_once('obstacle_scan: no scan from grey images: %s' % error)
             self.outcomes.add('no scan: grey images', ERROR)
@@ -112,7 +126,8 @@ class ObstacleScanNode:
         # Subscribers come and go while a frame is processed: decide once what to build.
         want_obstacles = self.obstacles_pub.get_num_connections() > 0
         want_annotated = self.annotated_pub.get_num_connections() > 0
-        intrinsics = self.camera_intrinsics(msg)
+        bgr = image.bgr
+        intrinsics = self.camera_intrinsics(image)
         pose = (self.camera_poses.pose(msg.header.frame_id, rospy.get_time()) if intrinsics
                 else None)
         with self.scanner_lock:

@@ -2,9 +2,11 @@
 
 Writes one CSV row per image (stamp, found, centroid, area, bbox, range, bearing; by default
 to ``bag_detect/<bag name>.csv`` in the workspace's or the ROS home, see
-:mod:`can_seeker.output_paths`) and optionally an MP4 of the annotated images. Camera pose from
-the bag's TF (base frame <- image frame), else from the camera mount parameters, exactly as the
-node does. The image topic may
+:mod:`can_seeker.output_paths`) and optionally an MP4 of the annotated images. With
+``--scan-csv`` it also runs obstacle_scan's camera scan on every frame (one CSV row of
+LaserScan ranges per frame, the obstacles drawn in the video), so the camera scan of a room can
+be seen before the robot drives. Camera pose from the bag's TF (base frame <- image frame), else
+from the camera mount parameters, exactly as the node does. The image topic may
 hold sensor_msgs/Image or sensor_msgs/CompressedImage (jpeg, png); the decoder follows the
 topic's recorded type.
 """
@@ -28,9 +30,12 @@ from can_seeker.vision.report import CanModel, can_report, fallback_pose
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
 from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.params import read_params
+from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_annotation
+from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 
 DEFAULT_IMAGE_TOPIC = '/camera/image_raw'
+TOOL_PARAMS = report.PARAMS + FLOOR_PARAMS + SCAN_PARAMS
 CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
                'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method', 'confidence')
 
@@ -45,9 +50,12 @@ def parse_args(argv):
                         help='sensor_msgs/Image or CompressedImage topic (default: %s, else '
                              'the bag\'s only image topic)' % DEFAULT_IMAGE_TOPIC)
     parser.add_argument('--camera-info-topic', default='/camera/camera_info')
+    parser.add_argument('--scan-csv', metavar='FILE',
+                        help='also run obstacle_scan\'s camera scan: one row of LaserScan '
+                             'ranges per frame (columns: stamp, then each bin\'s angle in rad)')
     parser.add_argument('--param', action='append', default=[], metavar='NAME=VALUE',
-                        help='override an image_converter parameter (repeatable), e.g. '
-                             'green_max_ratio=0.4; see the README table')
+                        help='override an image_converter or obstacle_scan parameter '
+                             '(repeatable), e.g. green_max_ratio=0.4 or floor_model=dark')
     return parser.parse_args(argv)
 
 
@@ -57,10 +65,10 @@ def read_overrides(pairs):
     for pair in pairs:
         name, _, value = pair.partition('=')
         overrides['~' + name.strip()] = value.strip()
-    known = {'~' + spec.name for spec in report.PARAMS}
+    known = {'~' + spec.name for spec in TOOL_PARAMS}
     for name in sorted(set(overrides) - known):
         print('bag_detect: unknown parameter %s ignored' % name[1:], file=sys.stderr)
-    return read_params(report.PARAMS, lambda name, default: overrides.get(name, default),
+    return read_params(TOOL_PARAMS, lambda name, default: overrides.get(name, default),
                        lambda text: print('bag_detect: ' + text, file=sys.stderr))
 
 
@@ -114,6 +122,17 @@ class BagDetector:
         self.video = None
         self.video_size = None
         self.skipped = {}
+        self.scanner = None
+        self.scan_writer = None
+        self.scan_header = None
+        self.scanned = 0
+        if args.scan_csv:
+            self.scanner = CameraScanner(FloorSettings.from_values(config), config.max_range,
+                                         config.exclude_can, robot_radius_m=config.robot_radius,
+                                         robot_height_m=config.robot_height)
+            self.scan_poses = CameraPoseSource.from_buffer_core(
+                self.tf, config.scan_frame,
+                fallback_pose(config.camera_height, config.camera_pitch_deg))
 
     def camera_pose(self, msg):
         """The camera pose by the nodes' rule, on the bag's clock (the image stamps)."""
@@ -136,10 +155,32 @@ class BagDetector:
             intrinsics = None
         report = can_report(result.candidates, width, height, self.camera_pose(msg),
                             intrinsics, self.can_model)
+        scanned = bgr
+        if self.scanner is not None:
+            scan = self.scan(msg, bgr, intrinsics)
+            if self.args.video:
+                scanned = draw_obstacles(bgr, scan, self.scanner.floor.reference_corners)
         if self.args.video:
-            self.write_video(draw_annotation(bgr, result, report.confidences, report.chosen,
+            self.write_video(draw_annotation(scanned, result, report.confidences, report.chosen,
                                              report.range_m), fps)
         return report
+
+    def scan(self, msg, bgr, intrinsics):
+        """obstacle_scan's camera scan of the frame; its ranges are one row of the scan CSV
+        (a frame without camera geometry gets none)."""
+        pose = self.scan_poses.pose(msg.header.frame_id, msg.header.stamp.to_sec())
+        result = self.scanner.scan(bgr, pose if intrinsics else None, intrinsics)
+        if result.ranges is not None:
+            if self.scan_header is None:
+                geometry = self.scanner.geometry
+                self.scan_header = ['stamp'] + ['%.4f' % (geometry.angle_min + index *
+                                                          geometry.angle_increment)
+                                                for index in range(len(result.ranges))]
+                self.scan_writer.writerow(self.scan_header)
+            self.scan_writer.writerow(['%.6f' % msg.header.stamp.to_sec()] +
+                                      ['%.3f' % value for value in result.ranges])
+            self.scanned += 1
+        return result
 
     def write_video(self, annotated, fps):
         """Append a frame; frames of another size than the first are left out of the video."""
@@ -214,12 +255,17 @@ def main(argv=None):
             print('bag_detect: no %s in the bag; reading its only image topic, %s (%s)' % (
                 DEFAULT_IMAGE_TOPIC, image_topic, image_type))
         detector = BagDetector(config, args, image_topic, image_type)
-        with open(csv_path, 'w', newline='') as csv_file:
+        with open(csv_path, 'w', newline='') as csv_file, \
+                open(args.scan_csv or os.devnull, 'w', newline='') as scan_file:
             writer = csv.writer(csv_file)
             writer.writerow(CSV_COLUMNS)
+            detector.scan_writer = csv.writer(scan_file)
             frames, found = detector.run(bag, writer)
     print('bag_detect: %d frames, can found in %d; CSV: %s%s' % (
         frames, found, csv_path, '; video: %s' % args.video if args.video else ''))
+    if args.scan_csv:
+        print('bag_detect: camera scan of %d frames (the others had no camera geometry): %s' % (
+            detector.scanned, args.scan_csv))
     for reason, count in sorted(detector.skipped.items()):
         print('bag_detect: skipped %d of %d frames (no CSV row): %s' % (count, frames, reason),
               file=sys.stderr)

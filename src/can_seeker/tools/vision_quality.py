@@ -2,10 +2,11 @@
 
 Builds the set of evaluation/labelled_images.py (photographs from Debian's opencv-doc,
 python3-skimage and matplotlib sample data; cans rendered in the pybullet world under several
-lights) and prints, for the detector at its defaults and for the previous detector's HSV box
-(hue 168-6, saturation >= 130, value >= 50, largest blob), how well ``found`` answers "is there
-a red object, and where", and how well ``found and confidence >= min_confidence`` answers
-"this is the can". Images it gets wrong are listed.
+lights) and prints, for the detector with each colour model (chromaticity, hsv) and for the
+previous detector's HSV box (hue 168-6, saturation >= 130, value >= 50, largest blob), how well
+``found`` answers "is there a red object, and where", and how well ``found and confidence >=
+min_confidence`` answers "this is the can". ``--param NAME=VALUE`` sets a detector parameter
+for both models (e.g. saturation_min=100); ``--list`` names the images each gets wrong.
 """
 import argparse
 import sys
@@ -17,10 +18,11 @@ from can_seeker.camera_mount import CameraMount
 from can_seeker.control.controller import PARAMS as CONTROLLER_PARAMS
 from can_seeker.evaluation.labelled_images import (Decision, build_set, can_scores,
                                                    detector_decisions, found_scores, in_boxes)
-from can_seeker.params import defaults
+from can_seeker.params import defaults, read_params
 from can_seeker.ros.paths import urdf_path
 from can_seeker.sim.world import CameraSpec, World
-from can_seeker.vision.detector import red_blobs
+from can_seeker.vision.detector import (COLOUR_MODELS, DETECTOR_PARAMS, DetectorSettings,
+                                        red_blobs)
 
 PREVIOUS_HSV_RANGES = (((168, 130, 50), (179, 255, 255)), ((0, 130, 50), (6, 255, 255)))
 PREVIOUS_KERNELS = (cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)),
@@ -40,6 +42,28 @@ def previous_decisions(images):
         decisions.append(Decision((blobs[0].centroid_x, blobs[0].centroid_y) if blobs else None,
                                   1.0))
     return decisions
+
+
+def detector_settings(pairs):
+    """{colour model: DetectorSettings} at the defaults with the NAME=VALUE overrides (an
+    unknown name or a bad value is an error: a measurement must run what was asked for)."""
+    overrides = {}
+    known = {spec.name for spec in DETECTOR_PARAMS}
+    for pair in pairs:
+        name, _, value = pair.partition('=')
+        name = name.strip()
+        if name not in known or name == 'colour_model':
+            raise SystemExit('vision_quality: --param %s: expected one of %s' % (
+                pair, ', '.join(sorted(known - {'colour_model'}))))
+        overrides['~' + name] = value.strip()
+
+    def refuse(text):
+        raise SystemExit('vision_quality: ' + text)
+
+    values = read_params(DETECTOR_PARAMS, lambda name, default: overrides.get(name, default),
+                         refuse)
+    return {model: DetectorSettings(**dict(DetectorSettings.from_values(values).__dict__,
+                                           colour_model=model)) for model in COLOUR_MODELS}
 
 
 def wrong(images, decisions, min_confidence):
@@ -70,7 +94,11 @@ def main(argv=None):
                         default=defaults(CONTROLLER_PARAMS).min_confidence,
                         help='can_stopper ~min_confidence (default %(default)s)')
     parser.add_argument('--list', action='store_true', help='list the images each gets wrong')
+    parser.add_argument('--param', action='append', default=[], metavar='NAME=VALUE',
+                        help='set a detector parameter for both colour models (repeatable), '
+                             'e.g. hue_max=8')
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    settings = detector_settings(args.param)
     camera = CameraSpec(320, 240, 45.0, CameraMount(0.25, 25.0))
     with World(urdf_path(), camera) as world:
         images = build_set(world, camera_pose_from_mount(camera.mount), camera.intrinsics)
@@ -86,18 +114,21 @@ def main(argv=None):
               sum(image.label == 'none' for image in renders)))
     print('| decision | images | TP | FP | FN | precision | recall | near-red FP |')
     print('|---|---|---|---|---|---|---|---|')
-    results = (('previous HSV box', previous_decisions), ('chromaticity', detector_decisions))
-    decisions = {name: function(images) for name, function in results}
-    for name, _ in results:
+    decisions = {'previous HSV box': previous_decisions(images)}
+    for model in COLOUR_MODELS:
+        decisions[model] = detector_decisions(images, settings[model])
+    for name in decisions:
         for subset_name, subset in (('photographs', photos), ('renders', renders)):
             chosen = [decisions[name][images.index(image)] for image in subset]
             print(scores_row('found, ' + name, subset_name, found_scores(subset, chosen)))
     print(scores_row('the can: found, previous HSV box (no confidence)', 'all',
                      can_scores(images, decisions['previous HSV box'], 0.0)))
-    print(scores_row('the can: found and confidence >= %.2f' % args.min_confidence, 'all',
-                     can_scores(images, decisions['chromaticity'], args.min_confidence)))
+    for model in COLOUR_MODELS:
+        print(scores_row('the can: found and confidence >= %.2f, %s' % (args.min_confidence,
+                                                                         model), 'all',
+                         can_scores(images, decisions[model], args.min_confidence)))
     if args.list:
-        for name, _ in results:
+        for name in decisions:
             print('\n%s:' % name)
             for line in wrong(images, decisions[name], args.min_confidence):
                 print('- ' + line)

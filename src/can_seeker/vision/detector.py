@@ -1,14 +1,20 @@
-"""Red object detection in one BGR image: chromaticity red mask, clean-up, candidate blobs
-with moments and shape scores, edges, annotation.
+"""Red object detection in one BGR image: red mask (chromaticity or HSV), clean-up, candidate
+blobs with moments and shape scores, edges, annotation.
 
-Colour: a pixel is red when red clearly dominates both other channels, measured as ratios to
-the red channel (chromaticity, so the decision does not change with brightness):
+Colour (``colour_model`` chromaticity, the default): a pixel is red when red clearly dominates
+both other channels, measured as ratios to the red channel (so the decision does not change
+with brightness):
 ``green <= green_max_ratio * red``, ``blue <= blue_max_ratio * red``, ``green - blue <=
 orange_max_ratio * red`` and ``red >= value_min``. Orange, yellow and skin fail on green (or on
 green above blue), pink, magenta and purple on blue; grey, white and black on all. The ratios
 were chosen on the labelled set of evaluation/labelled_images.py (photographs from Debian
 packages and rendered cans under warm, cool, dim and bright light), in the middle of the range
 where every red object was still found and the fewest near-red ones were.
+
+Colour (``colour_model`` hsv, the tutorial's mask): OpenCV's 8-bit HSV (hue 0-180), red where
+``hue <= hue_max`` or ``hue >= hue_min_wrap`` (the two ranges either side of the wrap at
+0/180), ``saturation >= saturation_min`` and ``value >= value_min`` (for a pixel of red hue V
+is its red channel, so ``value_min`` means the same in both models).
 
 Shape: every red blob above the minimum area is a candidate, scored 0-1 for how much it looks
 like an upright can's silhouette (convex, filling its box, taller than wide, upright).
@@ -23,6 +29,7 @@ import numpy as np
 from can_seeker.params import Param
 
 EDGE_METHODS = ('canny', 'sobel', 'laplacian')
+COLOUR_MODELS = ('chromaticity', 'hsv')
 MAX_CANDIDATES = 8
 """Blobs scored per frame, largest first (more are ignored)."""
 CUT_FACTOR = 0.75
@@ -30,13 +37,23 @@ CUT_FACTOR = 0.75
 
 # Thresholds of the detector; all of them are tunable live with dynamic_reconfigure.
 DETECTOR_PARAMS = (
+    Param('colour_model', 'chromaticity', 'which test makes a pixel red: chromaticity (ratios '
+          'of green and blue to red) or hsv (two hue ranges either side of 0/180, minimum '
+          'saturation and value)', choices=COLOUR_MODELS),
     Param('green_max_ratio', 0.35, 'a red pixel has green <= this x red, which rejects orange, '
           'yellow, skin and pink (1)', 0.0, 1.0),
     Param('blue_max_ratio', 0.45, 'a red pixel has blue <= this x red, which rejects pink, magenta '
           'and purple (1)', 0.0, 1.0),
     Param('orange_max_ratio', 0.2, 'a red pixel has green - blue <= this x red, which rejects '
           'red-orange and orange (1)', 0.0, 1.0),
-    Param('value_min', 30, 'minimum red channel (brightness) of a red pixel (0-255)', 0, 255),
+    Param('value_min', 30, 'minimum red channel (brightness) of a red pixel, in both models '
+          '(hsv: V, which is the red channel of a pixel of red hue) (0-255)', 0, 255),
+    Param('hue_max', 4, 'hsv: a red pixel has hue <= this, or >= ~hue_min_wrap '
+          '(OpenCV hue, 0-180)', 0, 180),
+    Param('hue_min_wrap', 170, 'hsv: a red pixel has hue >= this, or <= ~hue_max '
+          '(OpenCV hue, 0-180)', 0, 180),
+    Param('saturation_min', 170, 'hsv: minimum saturation of a red pixel, which '
+          'rejects pink, skin and grey (0-255)', 0, 255),
     Param('min_area_fraction', 0.0005, 'smallest red blob reported, as a fraction of the image '
           'area (1)', 0.0, 1.0),
     Param('open_kernel_px', 3, 'side of the opening kernel that removes red speckles (px, '
@@ -54,10 +71,14 @@ DETECTOR_PARAMS = (
 class DetectorSettings:
     """Validated thresholds of :class:`RedCanDetector` (see DETECTOR_PARAMS for units)."""
 
+    colour_model: str
     green_max_ratio: float
     blue_max_ratio: float
     orange_max_ratio: float
     value_min: int
+    hue_max: int
+    hue_min_wrap: int
+    saturation_min: int
     min_area_fraction: float
     open_kernel_px: int
     close_kernel_px: int
@@ -79,18 +100,25 @@ class DetectorSettings:
 class MaskScratch:
     """Buffers of :func:`red_mask` for one image size, reused from frame to frame: the three
     channels and the mask, four image planes (fewer planes keep a frame's passes in the CPU
-    cache)."""
+    cache); the HSV image only once the hsv model runs."""
 
     def __init__(self, height: int, width: int):
         self.shape = (height, width)
         self.channels = [np.empty((height, width), np.uint8) for _ in range(3)]
         self.mask = np.empty((height, width), np.uint8)
+        self._hsv = None
+
+    @property
+    def hsv(self) -> np.ndarray:
+        if self._hsv is None:
+            self._hsv = np.empty(self.shape + (3,), np.uint8)
+        return self._hsv
 
 
 def red_mask(bgr: np.ndarray, settings, scratch: Optional[MaskScratch] = None) -> np.ndarray:
-    """mono8 mask of a BGR uint8 image: 255 where a pixel is red by the chromaticity model of
-    ``settings`` (any object with green_max_ratio, blue_max_ratio, orange_max_ratio and
-    value_min, e.g. :class:`DetectorSettings`), else 0. No clean-up.
+    """mono8 mask of a BGR uint8 image: 255 where a pixel is red by the colour model of
+    ``settings`` (any object with DETECTOR_PARAMS' colour attributes, e.g.
+    :class:`DetectorSettings`), else 0. No clean-up.
 
     With ``scratch`` (a :class:`MaskScratch` of the image's size) no memory is allocated and
     the mask returned is ``scratch.mask``, overwritten by the next call.
@@ -98,6 +126,14 @@ def red_mask(bgr: np.ndarray, settings, scratch: Optional[MaskScratch] = None) -
     height, width = bgr.shape[:2]
     if scratch is None or scratch.shape != (height, width):
         scratch = MaskScratch(height, width)
+    if settings.colour_model == 'hsv':
+        return hsv_red_mask(bgr, settings, scratch)
+    return chromaticity_red_mask(bgr, settings, scratch)
+
+
+def chromaticity_red_mask(bgr: np.ndarray, settings, scratch: MaskScratch) -> np.ndarray:
+    """The chromaticity model's mask (green_max_ratio, blue_max_ratio, orange_max_ratio,
+    value_min) into ``scratch``."""
     blue, green, red = scratch.channels
     passed = scratch.mask
     cv2.split(bgr, scratch.channels)
@@ -114,6 +150,17 @@ def red_mask(bgr: np.ndarray, settings, scratch: Optional[MaskScratch] = None) -
     cv2.subtract(red, settings.value_min - 1.0, dst=red)
     cv2.min(passed, red, dst=passed)
     return cv2.threshold(passed, 0, 255, cv2.THRESH_BINARY, dst=passed)[1]
+
+
+def hsv_red_mask(bgr: np.ndarray, settings, scratch: MaskScratch) -> np.ndarray:
+    """The hsv model's mask (hue_max, hue_min_wrap, saturation_min, value_min) into
+    ``scratch``: OpenCV 8-bit HSV, hue 0-179."""
+    hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV, dst=scratch.hsv)
+    low_floor = (settings.saturation_min, settings.value_min)
+    cv2.inRange(hsv, (0,) + low_floor, (settings.hue_max, 255, 255), dst=scratch.mask)
+    wrapped = scratch.channels[0]
+    cv2.inRange(hsv, (settings.hue_min_wrap,) + low_floor, (180, 255, 255), dst=wrapped)
+    return cv2.bitwise_or(scratch.mask, wrapped, dst=scratch.mask)
 
 
 @dataclass(frozen=True)

@@ -5,8 +5,12 @@ raises on unknown encodings from deep inside; here each problem is a clear
 :class:`ImageDecodeError` so a node can log it and skip the frame. No rospy needed: the
 fields are passed in (a message, or one read from a bag, has them all).
 """
+from dataclasses import dataclass
+
 import cv2
 import numpy as np
+
+from can_seeker.params import Param
 
 # Encodings a colour detector can read, with channels and the conversion to BGR (None: as is).
 COLOUR_ENCODINGS = {
@@ -148,3 +152,39 @@ MESSAGE_DECODERS = {
     'sensor_msgs/Image': decode_image_msg,
     'sensor_msgs/CompressedImage': decode_compressed_msg,
 }
+
+# The message type of each ~image_transport (image_transport's names for the raw and
+# compressed plugins).
+TRANSPORT_MESSAGE_TYPES = {
+    'raw': 'sensor_msgs/Image',
+    'compressed': 'sensor_msgs/CompressedImage',
+}
+IMAGE_TRANSPORT_PARAM = Param(
+    'image_transport', 'raw', 'input images: raw (sensor_msgs/Image on image) or compressed '
+    '(sensor_msgs/CompressedImage, jpeg or png, on image/compressed, as raspicam_node and '
+    "image_transport's compressed plugin publish)", choices=tuple(TRANSPORT_MESSAGE_TYPES))
+
+
+def transport_topic(image_topic: str, transport: str) -> str:
+    """The topic a ``transport`` subscriber of the resolved ``image_topic`` reads, as
+    image_transport names it: the topic itself (raw) or ``<image_topic>/compressed``."""
+    if transport == 'raw':
+        return image_topic
+    return image_topic.rstrip('/') + '/' + transport
+
+
+@dataclass(frozen=True)
+class DecodedImage:
+    """A decoded image message: the header it came with (outputs carry it) and its BGR pixels,
+    whose size stands in for the width and height a CompressedImage does not have."""
+
+    header: object
+    bgr: np.ndarray
+
+    @property
+    def width(self) -> int:
+        return self.bgr.shape[1]
+
+    @property
+    def height(self) -> int:
+        return self.bgr.shape[0]
