@@ -129,6 +129,7 @@ def run(controller, world, duration_s, rate=20.0, scan_fov=2 * math.pi, stop_whe
         else:
             (ends, hits), range_min = world.scan(fov_rad=scan_fov), 0.0
         controller.observe_scan(controller.scan_sources[0], ends, hits, (0.0, 0.0), now, range_min)
+        controller.observe_camera_info(now)
         controller.observe(world.sighting(CAMERA_VIEW), now)
         command = controller.command(now)
         world.drive(command, dt)

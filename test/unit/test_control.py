@@ -469,6 +469,7 @@ def test_backing_up_stops_for_a_remembered_obstacle_behind():
             controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
             controller.observe_scan('/scan', CLEAR_SCAN[0][front], CLEAR_SCAN[1][front],
                                     (0.0, 0.0), now)
+            controller.observe_camera_info(now)
             controller.observe(ahead(STOP - 0.1), now)
             command = controller.command(now)
             now += DT
@@ -547,6 +548,7 @@ def drive_toward_can(controller, start_s, duration_s, sources, odometry=True, ob
             if obstacle is not None and obstacle[0] == source:
                 ends, hits = np.array([[obstacle[1], 0.0]]), np.array([True])
             controller.observe_scan(source, ends, hits, (0.0, 0.0), now)
+        controller.observe_camera_info(now)
         controller.observe(ahead(gap_m), now)
         command = controller.command(now)
         now += DT
@@ -574,6 +576,7 @@ def test_why_names_the_missing_odometry_while_the_command_is_zero():
 def test_why_names_a_stale_detection_and_an_unheard_scan():
     controller = make_controller(scan_topics='/scan')
     controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe_camera_info(0.0)
     controller.observe(ahead(1.0), 0.0)
     assert controller.command(0.0)[0] == 0.0
     assert controller.why == 'no scan on /scan yet: no driving, only turning'
@@ -586,10 +589,12 @@ def test_inputs_awaited_since_a_reset_are_overdue_only_after_their_timeout():
     controller.reset(10.0)
     awaited = controller.missing_inputs(10.1)
     assert [(item.name, item.overdue) for item in awaited] == [
-        ('detection', False), ('odometry', False), ('/scan', False)]
+        ('detection', False), ('odometry', False), ('/scan', False), ('camera_info', False)]
     assert controller.health(10.1).level == WARN
-    assert all(item.overdue for item in controller.missing_inputs(10.6))
+    assert [item.name for item in controller.missing_inputs(10.6) if not item.overdue] == [
+        'camera_info']   # its timeout is 1 s
     assert controller.health(10.6).level == ERROR
+    assert all(item.overdue for item in controller.missing_inputs(11.1))
 
 
 def test_why_says_an_obstacle_capped_the_speed():
@@ -695,6 +700,7 @@ def test_unknown_floor_beside_the_way_ahead_makes_the_robot_turn_to_look():
     for _ in range(10):
         controller.observe_pose(Pose2D(0.0, 0.0, 0.0), now)
         controller.observe_scan('/scan', *wedge, (0.0, 0.0), now, range_min_m=0.1)
+        controller.observe_camera_info(now)
         controller.observe(ahead(1.0), now)
         command = controller.command(now)
         now += DT
@@ -762,6 +768,7 @@ def backing_up_to_see(view, unknown_x, unknown_y, obstacle_behind=False, duratio
     for _ in range(int(duration_s / DT)):
         controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
         controller.observe_scan('/scan', ends, hits, (0.0, 0.0), now)
+        controller.observe_camera_info(now)
         controller.observe(Sighting(1.0 - x_m, 0.0), now)
         commands.append(controller.command(now))
         reasons.append(controller.why)
@@ -777,6 +784,7 @@ def drive_on_with_the_floor_observed(controller, x_m, now):
     for _ in range(int(2.0 / DT)):
         controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
         controller.observe_scan('/scan', *CLEAR_SCAN, (0.0, 0.0), now)
+        controller.observe_camera_info(now)
         controller.observe(Sighting(1.0 - x_m, 0.0), now)
         command = controller.command(now)
         x_m += command[0] * DT

@@ -485,6 +485,7 @@ def test_arriving_at_a_place_where_the_can_may_stand_counts_it_as_looked_at():
     controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
     controller.observe_scan(controller.scan_sources[0], np.array([[2.0, 0.0]]), np.array([False]),
                             (0.0, 0.0), 0.0)
+    controller.observe_camera_info(0.0)
     controller.observe(None, 0.0)
     controller.state = State.EXPLORE
     controller.command(0.0)
@@ -555,6 +556,7 @@ def test_keeping_to_a_path_that_no_longer_reaches_the_can_backs_up():
         controller.observe_pose(Pose2D(origin[0], origin[1], 0.0), now)
         ends, hits = ring_scan(origin, (1.5, 0.0), 0.6)
         controller.observe_scan(controller.scan_sources[0], ends, hits, (0.0, 0.0), now)
+    controller.observe_camera_info(3.0)
     controller.observe(Sighting(1.5 - ROBOT_RADIUS - DEFAULTS['can_radius'], 0.0, 1.0), 3.0)
     assert controller.state is State.APPROACH
     usual = controller._toward_can(3.0)

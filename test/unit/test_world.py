@@ -151,6 +151,22 @@ def test_driving_into_the_can_touches_and_pushes_it(world):
     assert can_x_m - robot_x_m == pytest.approx(0.165 + 0.033, abs=0.03)
 
 
+@pytest.mark.parametrize('linear_mps, front', [(0.2, True), (-0.2, False)])
+def test_a_touch_is_on_the_front_half_only_when_the_robot_drives_into_it(world, linear_mps,
+                                                                          front):
+    """The bumper's half: the can touched ahead of base_link is, one backed into is not."""
+    world.place_can(0.45 if front else -0.45, 0.0)
+    limiter = TwistLimiter(1.0, 4.0)
+    touches = []
+    for _ in range(3 * 240):
+        world.set_twist(*limiter.step(linear_mps, 0.0, world.dt_s))
+        world.step()
+        touches.append(world.touches())
+    assert any('can' in names for names, _ in touches)
+    assert any(on_front for _, on_front in touches) is front
+    assert all(names or not on_front for names, on_front in touches)
+
+
 def test_camera_sees_the_can_where_it_projects(world):
     world.place_can(0.9, 0.2)
     world.step()

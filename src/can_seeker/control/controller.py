@@ -8,10 +8,15 @@ and WANDER (``behaviour`` wander, no can). Geometry (REP-103): a detection gives
 the camera to the can's near surface and the bearing; the gap is measured from the robot front
 (a circle of ``robot_radius`` about base_link) to that surface.
 
+IDLE: disarmed (``~enabled`` false, or :meth:`Controller.set_enabled` false), every command
+zero; arming starts afresh with an empty map. With ``~explore`` false, SEARCH keeps turning in
+place. A bumper (:meth:`Controller.observe_bump`) hands the robot to
+:mod:`can_seeker.control.bump_recovery`.
+
 Every command passes the safety layer (free travel along the command's arc through the scans,
 remembered obstacles and unknown floor) and the twist limits. A stale detection gives zero; a
-stale scan or odometry allows turning only; a non-finite command is an error, never a limit.
-:attr:`Controller.why` says why a command is zero or limited, and
+stale scan, odometry or camera_info allows turning only; a non-finite command is an error,
+never a limit. :attr:`Controller.why` says why a command is zero or limited, and
 :meth:`Controller.missing_inputs` names the missing or stale inputs.
 
 Design, reasons and limits: docs/design/controller-and-safety.md.
@@ -28,6 +33,7 @@ from can_seeker.frames import BASE_FRAME, ODOM_FRAME
 from can_seeker.health import ERROR, OK, WARN, Health
 from can_seeker.params import Param
 from can_seeker.control import avoidance
+from can_seeker.control.bump_recovery import BumpRecovery
 from can_seeker.control.navigation import CLEAR_AHEAD_M, GOAL_REACHED_M, CameraView, Navigator, \
     Pose2D
 from can_seeker.control.pose_history import PoseHistory, sighting_from
@@ -36,6 +42,15 @@ from can_seeker.control.twist_limits import TwistLimits, limit_twist, require_fi
 from can_seeker.sim.lockstep import parse_topics
 
 PARAMS = (
+    Param('enabled', True, 'start armed: searching and driving; false starts IDLE (zero '
+          'commands) until the ~enable service arms it'),
+    Param('explore', True, 'explore the room when a full turn in place did not show the can; '
+          'false keeps the robot turning in place to search (it still drives to a can it '
+          'sees)'),
+    Param('bumper_topic', '', 'std_msgs/Bool contact sensor (true: the bumper is pressed): '
+          'stop, back off, keep off the contact; empty: no bumper'),
+    Param('camera_info_timeout', 1.0, 'with obstacle sensing, no camera_info for this long: no '
+          'driving forward or back, only turning (s)', 0.05, 10.0, safer='lower'),
     Param('rate', 20.0, 'rate of the /cmd_vel commands from the control timer (Hz)', 1.0, 200.0),
     Param('stop_distance', 0.25,
           'gap between the robot front and the can near surface when stopped (m)', 0.02, 3.0,
@@ -189,6 +204,7 @@ class State(enum.Enum):
     STOPPED = 'STOPPED'
     LOST = 'LOST'
     WANDER = 'WANDER'
+    IDLE = 'IDLE'
 
 
 @dataclass(frozen=True)
@@ -220,7 +236,8 @@ class Sighting:
 
 
 class MissingInput(NamedTuple):
-    """An input the controller lacks: its ``name`` ('detection', 'odometry' or a scan topic),
+    """An input the controller lacks: its ``name`` ('detection', 'odometry', 'camera_info'
+    or a scan topic),
     the ``problem``, e.g. 'no odometry for 1.20 s (timeout 0.50 s)', 'no scan on /scan yet',
     and whether it is ``overdue``: not just awaited since a reset, within its timeout."""
 
@@ -308,9 +325,16 @@ class Controller:
     :meth:`observe_scan` for range scans, and :meth:`command` at the control rate.
     """
 
-    def __init__(self, config):
-        """``config`` has the attributes named in :data:`PARAMS`."""
+    def __init__(self, config, camera_info_topic: str = 'camera_info',
+                 arm_hint: str = 'call the enable service with true'):
+        """``config`` has the attributes named in :data:`PARAMS`; ``camera_info_topic``
+        names that input (as resolved) in the missing inputs, ``arm_hint`` says how to arm
+        the node in the diagnostics while it is disarmed."""
         self.config = config
+        self.camera_info_topic = camera_info_topic
+        self.arm_hint = arm_hint
+        self.enabled = bool(config.enabled)
+        self.bump = BumpRecovery(config.robot_radius, config.max_reverse)
         self.scan_sources = parse_topics(config.scan_topics)
         self.limits = TwistLimits(config.max_linear, config.max_reverse, config.max_angular,
                                   config.max_linear_accel, config.max_angular_accel)
@@ -328,14 +352,23 @@ class Controller:
     def senses_obstacles(self) -> bool:
         return bool(self.scan_sources)
 
+    @property
+    def needs_camera_info(self) -> bool:
+        """True when driving depends on the camera's view: seeking with obstacle sensing."""
+        return self.senses_obstacles and not self.wander
+
     def reset(self, now_s: float = -math.inf) -> None:
-        """Back to SEARCH (turning left), at rest, with no detection seen yet and an empty map.
+        """Back to SEARCH (turning left; IDLE while disarmed), at rest, with no detection
+        seen yet and an empty map.
 
         Detections of images taken before ``now_s`` show the world before the reset (the can
-        may have been moved since) and are ignored.
+        may have been moved since) and are ignored; so is camera_info that came before.
         """
         self.ignore_before_s = now_s
-        self._enter(State.WANDER if self.wander else State.SEARCH)
+        self._enter(State.IDLE if not self.enabled else
+                    State.WANDER if self.wander else State.SEARCH)
+        self.camera_info_s: Optional[float] = None
+        self.bump.cancel()
         self.turn_sign = 1.0
         self.sighting: Optional[Sighting] = None
         self.can_xy: Optional[Tuple[float, float]] = None
@@ -348,7 +381,7 @@ class Controller:
         self.navigator.reset()
         self.pose_s: Optional[float] = None
         self.scan_s: Dict[str, float] = {}
-        self.why = ''
+        self.why = '' if self.enabled else self._disarmed_reason()
         self.planned_s = -math.inf
 
     # Inputs ----------------------------------------------------------------------------------
@@ -518,6 +551,44 @@ class Controller:
         """The camera's floor footprint in base_link, for coverage."""
         self.camera_view = view
 
+    def observe_camera_info(self, now_s: float) -> None:
+        """A usable camera_info arrived at ``now_s`` (the camera's intrinsics, for its view)."""
+        self.camera_info_s = now_s
+
+    def set_enabled(self, enabled: bool, now_s: float) -> str:
+        """Arm (from SEARCH or WANDER, with a fresh map, as :meth:`reset`) or disarm (IDLE:
+        every command zero, from this call on); returns what was done, in a sentence."""
+        if enabled == self.enabled:
+            return 'already %s' % ('armed' if enabled else 'disarmed')
+        self.enabled = enabled
+        self.reset(now_s)
+        if enabled:
+            return 'armed: %s' % self.state.value
+        self.last_command = (0.0, 0.0)
+        self.why = self._disarmed_reason()
+        return 'disarmed: zero commands until armed again'
+
+    def _disarmed_reason(self) -> str:
+        return 'disarmed (to arm: %s)' % self.arm_hint
+
+    def observe_bump(self, pressed: bool, now_s: float) -> bool:
+        """A bumper message at ``now_s``. A new touch (a press after a release) while armed
+        stops the robot at once (the next command starts from rest), keeps the contact (the
+        robot's front on its heading) in the obstacle map and starts the back-off; returns
+        True then, so the node sends the stop without waiting for the next tick."""
+        if not self.enabled:
+            self.bump.pressed = pressed
+            return False
+        was_pressed = self.bump.pressed
+        contact = self.bump.bumped(pressed, self.navigator.pose, now_s)
+        if not pressed or was_pressed:
+            return False
+        if contact is not None:
+            self.navigator.grid.add_contact(contact)
+        self.path_xy = None
+        self.last_command = (0.0, 0.0)
+        return True
+
     def is_stale(self, now_s: float) -> bool:
         """True when the image of the last detection message will be older than
         ``detection_timeout`` before the next control tick: a command is executed for one
@@ -549,7 +620,8 @@ class Controller:
         return missing
 
     def _sensing_problems(self, now_s: float) -> List[MissingInput]:
-        """Odometry and the scans of every sensor, when missing or stale."""
+        """Odometry, the scans of every sensor and (see :attr:`needs_camera_info`)
+        camera_info, when missing or stale."""
         config = self.config
         problems = []
         if not self._fresh(self.pose_s, config.odom_timeout, now_s):
@@ -559,6 +631,11 @@ class Controller:
             if not self._fresh(self.scan_s.get(source), config.scan_timeout, now_s):
                 problems.append(_missing(source, 'scan on %s' % source, self.scan_s.get(source),
                                          config.scan_timeout, now_s, self.ignore_before_s))
+        if self.needs_camera_info and not self._fresh(self.camera_info_s,
+                                                      config.camera_info_timeout, now_s):
+            problems.append(_missing('camera_info', 'camera_info on %s' % self.camera_info_topic,
+                                     self.camera_info_s, config.camera_info_timeout, now_s,
+                                     self.ignore_before_s))
         return problems
 
     def health(self, now_s: float, why: Optional[str] = None) -> Health:
@@ -569,10 +646,15 @@ class Controller:
         why = self.why if why is None else why
         linear, angular = self.last_command
         doing = why or 'commanding %.2f m/s, %.2f rad/s' % (linear, angular)
-        values = (('state', self.state.value), ('linear (m/s)', '%.3f' % linear),
+        values = (('state', self.state.value), ('armed', 'yes' if self.enabled else 'no'),
+                  ('linear (m/s)', '%.3f' % linear),
                   ('angular (rad/s)', '%.3f' % angular), ('why', why or 'none'),
-                  ('missing inputs', problems_text(missing) or 'none'))
+                  ('missing inputs', problems_text(missing) or 'none'),
+                  ('bumps', str(self.bump.count)))
         level = ERROR if any(item.overdue for item in missing) else WARN if missing else OK
+        if not self.enabled:
+            # Nothing drives while disarmed: a missing input is a warning for when it is armed.
+            level = min(level, WARN)
         return Health(level, '%s: %s' % (self.state.value, doing), values)
 
     def _because(self, reason: str) -> None:
@@ -804,10 +886,15 @@ class Controller:
     def desired(self, now_s: float = 0.0) -> Tuple[float, float]:
         """The (linear m/s, angular rad/s) the current state asks for, before limits."""
         config = self.config
+        if self.state is State.IDLE:
+            return 0.0, 0.0
         if self.state is State.WANDER:
             return self._wander()
         if self.state is State.SEARCH:
             if self.searched_rad < 2.0 * math.pi:
+                return 0.0, self.turn_sign * config.search_angular
+            if not config.explore:
+                self._because('searched a full turn, ~explore is false: turning on in place')
                 return 0.0, self.turn_sign * config.search_angular
             if not self.can_navigate(now_s):
                 self._because(self._cannot_navigate_reason(now_s, 'searched a full turn, '
@@ -978,6 +1065,12 @@ class Controller:
         dt_s = 0.0 if self.last_command_s is None else elapsed_s(now_s, self.last_command_s)
         self.last_command_s = now_s
         self.why = ''
+        if not self.enabled:
+            # A disarm is an emergency stop: zero at once, not a ramp-down within the
+            # acceleration limits that would keep the robot driving after it was told to stop.
+            self.last_command = (0.0, 0.0)
+            self.why = self._disarmed_reason()
+            return self.last_command
         if self.is_stale(now_s):
             self.last_command = (0.0, 0.0)
             self.why = problems_text(self.missing_inputs(now_s))
@@ -985,8 +1078,14 @@ class Controller:
         if (self.state is State.LOST
                 and elapsed_s(now_s, self.lost_since_s) > self.config.lost_timeout):
             self._enter(State.SEARCH)
-        desired = require_finite(self.desired(now_s), '%s command' % self.state.value)
-        desired = self._safe(desired, now_s, look=True)
+        recovery = self.bump.command(self.navigator.pose, now_s)
+        if recovery is not None:
+            self._because(recovery[1])
+            desired = recovery[0]
+            self.path_xy = None
+        else:
+            desired = require_finite(self.desired(now_s), '%s command' % self.state.value)
+            desired = self._safe(desired, now_s, look=True)
         linear, angular = self._safe(limit_twist(self.last_command, desired, dt_s, self.limits),
                                      now_s)
         self._note_progress(now_s)

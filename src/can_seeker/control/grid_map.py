@@ -14,6 +14,9 @@ Two layers over the same square cells:
   whose image's bottom edge cuts an obstacle: it is at most that far) keeps the remembered
   obstacle cells along that ray nearer than range_min: it still sees something there, so they
   are no phantom to drop;
+- contacts: cells where the robot's bumper touched something (:meth:`GridMap.add_contact`).
+  A contact is an obstacle no scan may clear or forget (the sensors did not see it, so their
+  free rays through its place prove nothing) until the map is cleared;
 - coverage: the floor the camera has looked at, up to the range at which it would have found
   the can, stopping at obstacles. Exploration drives to where it has not looked yet;
 - observed, on cells of half the size: the floor some scan ray has reached (free or hit), the
@@ -80,6 +83,7 @@ class GridMap:
         self.blind_disc_s = np.zeros((self.cells, self.cells))
         self.scan_s: Dict[str, float] = {}
         self.hit_xy = np.zeros((self.cells, self.cells, 2))
+        self.contact = np.zeros((self.cells, self.cells), bool)
 
     def clear(self) -> None:
         """Forget every obstacle and all coverage."""
@@ -88,6 +92,7 @@ class GridMap:
         self.observed[:] = False
         self.blind_s[:] = 0.0
         self.blind_disc_s[:] = 0.0
+        self.contact[:] = False
         self.scan_s = {}
 
     def forget_coverage(self) -> None:
@@ -125,13 +130,22 @@ class GridMap:
         return self._centres_um(ix, iy, self._resolution_um) / SCALE
 
     def occupied(self) -> np.ndarray:
-        """Cells with more evidence of an obstacle than of free floor."""
+        """Cells with more evidence of an obstacle than of free floor, or a contact."""
         return self.occupied_at(slice(None), slice(None))
 
     def occupied_at(self, ix, iy) -> np.ndarray:
         """:meth:`occupied` at the cells indexed by ``ix``, ``iy`` only (a few cells, without
         comparing the whole grid)."""
-        return self.evidence[ix, iy] > 0
+        return (self.evidence[ix, iy] > 0) | self.contact[ix, iy]
+
+    def add_contact(self, xy) -> None:
+        """The robot touched something at odom point ``xy``: its cell is an obstacle, kept
+        (the hit point ``xy``) whatever scans say of it, until :meth:`clear`."""
+        cell = self.cell_of(*xy)
+        if cell is None:
+            return
+        self.contact[cell] = True
+        self.hit_xy[cell] = xy
 
     def add_scan(self, origin_xy, ends_xy: np.ndarray, hits: np.ndarray,
                  clear_from_m: float = 0.0, stamp_s: float = 0.0, source: str = '') -> None:
@@ -275,7 +289,7 @@ class GridMap:
         waiting = self.blind_disc_s[cx, cy] < max_blind_disc_s
         if not waiting.all():
             waiting |= self._near_obstacles(cx, cy, max_blind_s)
-        unknown = ~self.observed[gx, gy] & (self.evidence[cx, cy] <= 0) & waiting
+        unknown = ~self.observed[gx, gy] & ~self.occupied_at(cx, cy) & waiting
         points = self._centres_um(gx[unknown], gy[unknown], self._fine_um).reshape(-1, 2)
         return points[_within(points, centre, radius_um)] / SCALE
 
@@ -288,7 +302,8 @@ class GridMap:
         x0, y0 = max(0, int(cx.min()) - reach), max(0, int(cy.min()) - reach)
         x1 = min(self.cells, int(cx.max()) + reach + 1)
         y1 = min(self.cells, int(cy.max()) + reach + 1)
-        occupied = (self.evidence[x0:x1, y0:y1] > 0) & (self.blind_s[x0:x1, y0:y1] < max_blind_s)
+        occupied = (self.occupied_at(slice(x0, x1), slice(y0, y1))
+                    & (self.blind_s[x0:x1, y0:y1] < max_blind_s))
         near = inflate(occupied, reach_um / self._resolution_um)
         return near[cx - x0, cy - y0]
 
@@ -305,8 +320,9 @@ class GridMap:
                         max_blind_s: float = np.inf) -> np.ndarray:
         """Odom points (N x 2) of the occupied cells within ``radius_m`` of ``centre_xy`` that
         scans have had in their blind zone for less than ``max_blind_s`` since one last hit
-        them: where the last scan that hit each cell hit it (a cell's centre may lie half a
-        cell behind the obstacle's surface)."""
+        them (contacts whatever the time): where the last scan that hit each cell hit it, or
+        the robot touched it (a cell's centre may lie half a cell behind the obstacle's
+        surface)."""
         centre, radius_um = lattice(centre_xy).reshape(2), int(lattice(radius_m))
         cells = int(ceil_div(radius_um, self._resolution_um)) + 1
         cx, cy, inside = self._lattice_index(centre.reshape(1, 2), self._resolution_um,
@@ -315,8 +331,9 @@ class GridMap:
             return np.zeros((0, 2))
         x0, x1 = max(0, cx[0] - cells), min(self.cells, cx[0] + cells + 1)
         y0, y1 = max(0, cy[0] - cells), min(self.cells, cy[0] + cells + 1)
-        ox, oy = np.nonzero(self.occupied()[x0:x1, y0:y1]
-                            & (self.blind_s[x0:x1, y0:y1] < max_blind_s))
+        ox, oy = np.nonzero(self.occupied_at(slice(x0, x1), slice(y0, y1))
+                            & ((self.blind_s[x0:x1, y0:y1] < max_blind_s)
+                               | self.contact[x0:x1, y0:y1]))
         points = self.hit_xy[ox + x0, oy + y0].reshape(-1, 2)
         return points[_within(lattice(points), centre, radius_um)]
 

@@ -9,13 +9,16 @@ of obstacles, any frame in TF; sensor poses in ``~base_frame`` from
 ``cmd_vel`` (geometry_msgs/Twist) and ``cmd_vel_stamped`` (geometry_msgs/TwistStamped, the
 same command stamped with the time it is for) from a fixed-rate timer, or with ``~lockstep``
 once per detection, stamped like its image;
-``~state`` (std_msgs/String, latched); ``~coverage`` (nav_msgs/OccupancyGrid, latched, once a
+``~state`` (std_msgs/String, latched: IDLE while disarmed); ``~coverage`` (nav_msgs/OccupancyGrid, latched, once a
 second) and, for rviz while subscribed, ``~obstacle_grid`` (nav_msgs/OccupancyGrid of the
 obstacle memory: 100 obstacle, 0 observed floor, -1 unknown; latched), ``~path``
 (nav_msgs/Path, the planned path, empty when none) and ``~markers``
 (visualization_msgs/MarkerArray: the can estimate, the state over the robot), all in
 ``~odom_frame``; ``/diagnostics`` (each input's rate and age, the state and why the command
-is zero or limited); ``~reset`` (std_srvs/Empty) returns to SEARCH and forgets the map. The
+is zero or limited); ``~reset`` (std_srvs/Empty) returns to SEARCH and forgets the map;
+``~enable`` (std_srvs/SetBool) arms (SEARCH afresh, as ``~reset``) and disarms (IDLE: zero
+commands at once); with ``~bumper_topic`` it subscribes that std_msgs/Bool (a press stops the
+robot at once, then the bump recovery backs it off). The
 behaviour is :mod:`can_seeker.control.controller`. Invalid safety bounds among the parameters
 stop the node at start (exit status 1); every control tick ends in a published command, zero
 when anything in it failed; a missing or stale input is warned about, throttled per input.
@@ -31,8 +34,8 @@ import tf2_ros
 from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from sensor_msgs.msg import CameraInfo, LaserScan, TimeReference
-from std_msgs.msg import String
-from std_srvs.srv import Empty, EmptyResponse
+from std_msgs.msg import Bool, String
+from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse
 from visualization_msgs.msg import MarkerArray
 
 from can_seeker.camera_geometry import intrinsics_from_k, yaw_from_quaternion
@@ -43,7 +46,7 @@ from can_seeker.control.navigation import Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from can_seeker.control.tick_guard import TickGuard
 from can_seeker.control.twist_limits import ZERO, require_finite
-from can_seeker.health import ERROR, WARN, InputMonitor
+from can_seeker.health import ERROR, OK, WARN, InputMonitor
 from can_seeker.msg import CanDetection
 from can_seeker.params import UnsafeParamError, read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
@@ -68,7 +71,9 @@ class CanStopperNode:
 
     def __init__(self, params):
         self.params = params
-        self.controller = Controller(params)
+        self.controller = Controller(
+            params, camera_info_topic=rospy.resolve_name('camera_info'),
+            arm_hint='rosservice call %s true' % rospy.resolve_name('~enable'))
         self.guard = TickGuard(lambda message: rospy.logerr('can_stopper: %s' % message))
         self.lock = threading.Lock()
         self.shutting_down = False
@@ -101,10 +106,18 @@ class CanStopperNode:
                                       WARN if self.controller.wander else ERROR),
             'odometry': InputMonitor('odometry', params.odom_timeout,
                                      ERROR if self.controller.senses_obstacles else WARN),
-            'camera_info': InputMonitor('camera_info', missing_level=WARN)}
+            'camera_info': InputMonitor('camera_info', params.camera_info_timeout,
+                                        ERROR if self.controller.needs_camera_info else WARN)}
+        if params.bumper_topic:
+            # Bumpers report on a change, or at a rate: silence is no fault.
+            self.monitors['bumper'] = InputMonitor('bumper', missing_level=OK)
         self.monitors.update({topic: InputMonitor('scan %s' % topic, params.scan_timeout)
                               for topic in self.controller.scan_sources})
         rospy.Service('~reset', Empty, self.on_reset)
+        rospy.Service('~enable', SetBool, self.on_enable)
+        if params.bumper_topic:
+            rospy.Subscriber(params.bumper_topic, Bool, self.on_bumper, queue_size=10,
+                             tcp_nodelay=True)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
         # Lockstep keeps every odometry and scan message: the answers must not depend on which
         # ones a busy machine would have dropped.
@@ -162,7 +175,35 @@ class CanStopperNode:
         except ValueError as error:
             rospy.logerr_throttle(5.0, 'can_stopper: bad camera_info: %s' % error)
             return
-        self.intrinsics = intrinsics
+        with self.lock:
+            self.intrinsics = intrinsics
+            self.controller.observe_camera_info(rospy.get_time())
+
+    def on_bumper(self, message):
+        """The bumper: a new press stops the robot at once (this zero goes out before the next
+        tick), the controller's bump recovery then backs it off."""
+        now = rospy.get_time()
+        self.monitors['bumper'].received(now)
+        with self.lock:
+            if self.shutting_down:
+                return
+            if self.controller.observe_bump(bool(message.data), now):
+                self.publish_command(ZERO, rospy.Time.from_sec(now))
+                rospy.logwarn('can_stopper: bumper pressed in %s: stopping, backing off %s'
+                              % (self.controller.state.value, 'and keeping off the contact'))
+
+    def on_enable(self, request):
+        """Arm (true) or disarm (false); a disarm sends its zero at once."""
+        with self.lock:
+            now = rospy.get_time()
+            if bool(request.data) != self.controller.enabled:
+                self.frame_inputs.clear(now)
+            message = self.controller.set_enabled(bool(request.data), now)
+            if not request.data and not self.shutting_down:
+                self.publish_command(ZERO, rospy.Time.from_sec(now))
+        rospy.loginfo('can_stopper: %s' % message)
+        self.publish_state(force=True)
+        return SetBoolResponse(success=True, message=message)
 
     def view_of(self, pose):
         """The floor footprint (for the coverage grid) of a detection's camera at ``pose`` (its
@@ -311,13 +352,14 @@ class CanStopperNode:
 
     def tick(self, now):
         """One control tick; publishes under the lock so no tick can follow the shutdown zeros.
-        In lockstep only a stale detection's zero goes out (detections bring the commands)."""
+        In lockstep only the zero of a stale detection or of a disarmed controller goes out
+        (detections bring the commands)."""
         with self.lock:
             if self.shutting_down:
                 return
             if not self.params.lockstep:
                 self.publish_command(self.controller.command(now), rospy.Time.from_sec(now))
-            elif self.stale_detection(now):
+            elif self.stale_detection(now) or not self.controller.enabled:
                 # Leaves the controller's command history alone: its timing stays the frames'.
                 self.publish_command(ZERO, rospy.Time.from_sec(now))
             coverage = None

@@ -9,8 +9,9 @@ base_link->camera_link->camera_optical_frame from the actual camera parameters a
 base_link->base_scan (each frame name a parameter: ``~base_frame``, ``~odom_frame``,
 ``~camera_frame``, ``~optical_frame``, ``~lidar_frame``), and ground truth in ``~world_frame``:
 /sim/base_pose_ground_truth (the true pose and twist), /sim/can_pose, /sim/contact and
-/sim/contacts (whether and what the robot touched at any physics step since the previous message)
-and /sim/world (latched: the scene in the world-file format), and /diagnostics (sim time and pace,
+/sim/contacts (whether and what the robot touched at any physics step since the previous message),
+``bumper`` (std_msgs/Bool: whether the front half of the robot's body, ahead of base_link, touched
+anything but the floor since the previous message: a bumper's contact sensing) and /sim/world (latched: the scene in the world-file format), and /diagnostics (sim time and pace,
 lockstep time-outs, the age and rate of the commands).
 Subscribes /cmd_vel, or in lockstep cmd_vel_stamped. Services /sim/reset, /sim/reset_trial,
 /sim/place_can, /sim/new_world, /sim/pause_physics and /sim/unpause_physics run on the simulation
@@ -120,6 +121,7 @@ class SimNode:
         self._can_pose_pub = _publisher('~can_pose', PoseStamped, truth_queue)
         self._contact_pub = _publisher('~contact', Bool, truth_queue)
         self._contacts_pub = _publisher('~contacts', Contacts, truth_queue)
+        self._bumper_pub = _publisher('bumper', Bool, truth_queue)
         self._tf_pub = _publisher('/tf', TFMessage, None if synchronous else TF_QUEUE_SIZE)
         self._world_pub = rospy.Publisher('~world', String, queue_size=1, latch=True)
         self._timeouts_pub = rospy.Publisher('~lockstep_timeouts', UInt32, queue_size=1,
@@ -322,7 +324,7 @@ class SimNode:
         self._scan.ranges = ranges.tolist()
         self._scan_pub.publish(self._scan)
 
-    def _publish_state(self, stamp, touched):
+    def _publish_state(self, stamp, touched, bumped):
         world = self._sim.world
         config = self._config
         robot = world.robot_state()
@@ -358,6 +360,7 @@ class SimNode:
         contacts = Contacts(objects=sorted(touched))
         contacts.header.stamp = stamp
         self._contacts_pub.publish(contacts)
+        self._bumper_pub.publish(Bool(data=bool(bumped)))
 
     def _wait_for_answers(self) -> bool:
         """In lockstep, whether the held frame still waits for its answers (a timeout is
@@ -403,7 +406,7 @@ class SimNode:
             if result.state_due or (self._gate is not None and result.image is not None):
                 # In lockstep every frame also has its state: a controller answers the frame
                 # once its odometry caught up with it.
-                self._publish_state(stamp, result.touched)
+                self._publish_state(stamp, result.touched, result.bumped)
             if self._real_time_factor > 0.0:
                 lag_s = (time.monotonic() - wall_start_s
                          - (result.time_s - sim_start_s) / self._real_time_factor)

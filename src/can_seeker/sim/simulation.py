@@ -338,7 +338,8 @@ class StepResult:
     the sim time it was captured at, s: earlier with frame latency) and a lidar scan (ranges, m)
     if one was due, whether the robot/can state is due for publishing and, if so, the names of
     everything but the floor the robot touched at any step since the previous state (a brief
-    touch between two states is not lost)."""
+    touch between two states is not lost), and whether any touch since then was on the
+    robot's front half (its bumper)."""
 
     time_s: float
     image: Optional[np.ndarray]
@@ -347,6 +348,7 @@ class StepResult:
     scan: Optional[np.ndarray] = None
     image_time_s: Optional[float] = None
     clock_due: bool = True
+    bumped: bool = False
 
 
 @dataclass(frozen=True)
@@ -389,6 +391,7 @@ class Simulation:
         self._watchdog = CommandWatchdog(cmd_timeout_s)
         self._limiter = TwistLimiter(max_linear_accel_mps2, max_angular_accel_radps2)
         self._touched = frozenset()
+        self._bumped = False
         self.realism = realism if realism is not None else Realism(
             PRESETS['ideal'], world.camera.intrinsics, encoding, WHEEL_SEPARATION_M)
         self.seed = seed
@@ -449,6 +452,7 @@ class Simulation:
         self._limiter.reset()
         self.world.reset_robot()
         self._touched = frozenset()
+        self._bumped = False
         for schedule in self._schedules():
             schedule.restart(self.steps)
 
@@ -517,7 +521,9 @@ class Simulation:
             turn_accel = (angular_radps - before[1]) * half_track / dt_s
             realism.odometry.update(self._true_pose(), dt_s, (linear_accel - turn_accel,
                                                               linear_accel + turn_accel))
-        self._touched = self._touched | self.world.touched_objects()
+        touched, front = self.world.touches()
+        self._touched = self._touched | touched
+        self._bumped = self._bumped or front
         if self._camera_schedule.due(self.steps):
             self._capture()
         delivered = realism.frames.due(self.time_s)
@@ -532,7 +538,9 @@ class Simulation:
             return StepResult(self.time_s, image, False, frozenset(), scan, image_time_s,
                               clock_due)
         touched, self._touched = self._touched, frozenset()
-        return StepResult(self.time_s, image, True, touched, scan, image_time_s, clock_due)
+        bumped, self._bumped = self._bumped, False
+        return StepResult(self.time_s, image, True, touched, scan, image_time_s, clock_due,
+                          bumped)
 
     def _capture(self):
         """Render a frame as the camera sees it now and hand it to the frame delivery."""

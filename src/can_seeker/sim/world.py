@@ -407,12 +407,24 @@ class World:
     def touched_objects(self) -> FrozenSet[str]:
         """Names of everything but the floor the robot touched in the last step ('can', wall
         and obstacle names)."""
-        names = set()
+        return self.touches()[0]
+
+    def touches(self) -> Tuple[FrozenSet[str], bool]:
+        """(:meth:`touched_objects`, whether any of those touches is on the front half of the
+        robot: ahead of base_link along its heading, where a bumper is)."""
+        names, points = set(), []
         for point in self._client.getContactPoints(bodyA=self._robot):
             if point[8] > CONTACT_TOLERANCE_M or point[2] == self._floor:
                 continue
             names.add('can' if point[2] == self._can else self._solids.get(point[2], 'unknown'))
-        return frozenset(names)
+            points.append(point[5])
+        if not points:
+            return frozenset(), False
+        state = self.robot_state()
+        heading = (math.cos(state.yaw_rad), math.sin(state.yaw_rad))
+        front = any((x - state.position[0]) * heading[0] + (y - state.position[1]) * heading[1]
+                    > 0.0 for x, y, _ in points)
+        return frozenset(names), front
 
     def robot_touches_can(self) -> bool:
         """Whether any part of the robot touched the can in the last step."""
