@@ -21,15 +21,17 @@ OPTICAL_IN_CAMERA_LINK_XYZW = (-0.5, 0.5, -0.5, 0.5)
 
 @dataclass(frozen=True)
 class CameraMount:
-    """The camera's height above the floor (m) and pitch below the horizon (deg, positive down)."""
+    """The camera's height above the floor (m), pitch below the horizon (deg, positive down) and
+    distance ahead of base_link (m)."""
 
     height_m: float
     pitch_deg: float
+    forward_m: float = CAMERA_FORWARD_M
 
     @property
     def translation_m(self) -> Tuple[float, float, float]:
         """camera_link origin in base_link (m); base_link lies on the floor."""
-        return (CAMERA_FORWARD_M, 0.0, self.height_m)
+        return (self.forward_m, 0.0, self.height_m)
 
     @property
     def rotation_xyzw(self) -> Tuple[float, float, float, float]:
