@@ -45,7 +45,8 @@ class CameraProfile:
 @dataclass(frozen=True)
 class LidarProfile:
     """A planar lidar: range limits, scan rate, field of view about straight ahead, beam count
-    and the beams' height above the floor."""
+    and the beams' height above the floor. A profile without one says ``lidar: false`` (a
+    parameter server holds no null)."""
 
     range_min_m: float
     range_max_m: float
@@ -183,7 +184,7 @@ def profile_from_dict(data: Any, name: str) -> RobotProfile:
         max_linear_accel_mps2=_number(section, 'max_linear_accel_mps2', where, 0.05, 5.0),
         max_angular_accel_radps2=_number(section, 'max_angular_accel_radps2', where, 0.1, 20.0),
         camera=_camera(_section(section, 'camera', where), where),
-        lidar=None if lidar is None else _lidar(_section(section, 'lidar', where), where),
+        lidar=None if lidar in (None, False) else _lidar(_section(section, 'lidar', where), where),
         bumper=bumper,
         body_radius_m=_number(section, 'body_radius_m', where, 0.02, 2.0),
         footprint_m=(_footprint(section['footprint_m'], where) if 'footprint_m' in section
@@ -218,6 +219,13 @@ def node_params(profile: RobotProfile) -> Dict[str, Dict[str, Any]]:
 def _close(a, b) -> bool:
     return isinstance(a, (int, float)) and not isinstance(a, bool) and math.isclose(
         a, b, rel_tol=1e-9, abs_tol=1e-9)
+
+
+def _null_keys(data, prefix=''):
+    if isinstance(data, dict):
+        return [key for name, value in data.items()
+                for key in _null_keys(value, '%s%s/' % (prefix, name))]
+    return [prefix.rstrip('/')] if data is None else []
 
 
 def check_node_sections(data: Mapping, profile: RobotProfile):
@@ -261,6 +269,10 @@ def load_profile(robot: str, search_dirs: Sequence[str] = ()) -> RobotProfile:
             data = yaml.safe_load(stream)
     except (OSError, yaml.YAMLError) as error:
         raise ProfileError('cannot read robot profile %s: %s' % (path, error))
+    nulls = _null_keys(data)
+    if nulls:
+        raise ProfileError('%s: %s empty: robot.launch loads the file onto the parameter '
+                           'server, which holds no null (say false or "")' % (name, ', '.join(nulls)))
     profile = profile_from_dict(data, name)
     check_node_sections(data, profile)
     return profile

@@ -135,6 +135,13 @@ def test_a_node_section_that_disagrees_with_the_figures_is_refused():
     assert 'obstacle_scan/robot_height missing (should be 0.092)' in str(error.value)
 
 
+def test_a_null_is_refused_since_the_parameter_server_holds_none(tmp_path):
+    path = tmp_path / 'robot.yaml'
+    path.write_text((ROBOTS / 'create2.yaml').read_text().replace('lidar: false', 'lidar: null'))
+    with pytest.raises(ProfileError, match='robot_profile/lidar empty'):
+        load_profile(str(path))
+
+
 def test_an_unknown_profile_names_where_it_looked():
     with pytest.raises(ProfileError, match='no robot profile .nosuch. \\(looked in .*robots'):
         load('nosuch')
