@@ -393,7 +393,10 @@ def main():
               % len(ledger.results()), file=sys.stderr)
     results, record_settings = ledger.results(), ledger.settings
     summary = ledger.summary()
-    if record_settings.get('randomize_mount'):
+    if record_settings.get('robot'):
+        camera = 'robot %s (its camera), time limit %.0f s' % (record_settings['robot'],
+                                                             record_settings['time_limit'])
+    elif record_settings.get('randomize_mount'):
         camera = 'camera mount drawn per trial (%.2f-%.2f m / %.0f-%.0f deg)' % (
             *RANDOM_HEIGHT_RANGE_M, *RANDOM_PITCH_RANGE_DEG)
     else:
