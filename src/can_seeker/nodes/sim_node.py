@@ -41,7 +41,7 @@ from can_seeker.health import WARN, InputMonitor
 from can_seeker.params import read_params
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import camera_info, odometry, transform_stamped
-from can_seeker.ros.paths import urdf_path, worlds_dir
+from can_seeker.ros.paths import robots_dir, urdf_path, worlds_dir
 from can_seeker.sim.simulation import (PARAMS, Simulation, camera_spec, can_visible_from_start,
                                        checked_config, mount_for, scene_for)
 from can_seeker.sim.status import RunStatus
@@ -81,7 +81,7 @@ class SimNode:
 
     def __init__(self):
         config = checked_config(read_params(PARAMS, rospy.get_param, rospy.logwarn),
-                                rospy.logwarn, [worlds_dir()])
+                                rospy.logwarn, [worlds_dir()], [robots_dir()])
         if config.gui:
             problem = display_problem(X11_PROBE)
             if problem:
@@ -89,7 +89,7 @@ class SimNode:
                 config.gui = False
         spec = camera_spec(config)
         world = World(urdf_path(), spec, config.physics_rate, config.renderer, config.gui,
-                      config.can_color, config.scene, config.can_texture)
+                      config.can_color, config.scene, config.can_texture, config.profile)
         rospy.loginfo('sim: %s world with %d walls and %d obstacles; rendering %dx%d at %.1f Hz '
                       'with %s; can at (%.3f, %.3f)', config.world, len(config.scene.walls),
                       len(config.scene.obstacles), config.width, config.height,
@@ -103,7 +103,8 @@ class SimNode:
         self._gate = LockstepGate(config.lockstep_timeout) if config.lockstep else None
         self._camera_info = camera_info(spec.intrinsics, self._sim.realism.distortion,
                                         config.optical_frame)
-        rospy.loginfo('sim: realism %s', config.realism)
+        rospy.loginfo('sim: realism %s, robot %s', config.realism,
+                      config.profile.name if config.profile else 'built-in')
 
         # Ground truth is small and judged message by message: a short outgoing queue drops
         # part of the path when the sim runs faster than real time on a busy machine. In

@@ -17,6 +17,11 @@ def urdf_path() -> str:
     return os.path.join(package_dir(), 'urdf', 'can_seeker_robot.urdf')
 
 
+def robots_dir() -> str:
+    """The package's robot profiles."""
+    return os.path.join(package_dir(), 'config', 'robots')
+
+
 def worlds_dir() -> str:
     """The package's world files."""
     return os.path.join(package_dir(), 'worlds')

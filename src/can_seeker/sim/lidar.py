@@ -2,7 +2,7 @@
 
 The sensor frame (the simulator's ``~lidar_frame``, ``base_scan`` by default) sits ``height_m``
 above base_link with the same axes; beam i points at angle_min + i * angle_increment about z,
-counter-clockwise from x (REP-103), starting at -pi. Ranges follow REP-117: a beam that hits
+counter-clockwise from x (REP-103), the field centred on x (a full circle starts at -pi). Ranges follow REP-117: a beam that hits
 nothing within range_max reads +inf.
 """
 import math
@@ -14,22 +14,27 @@ import numpy as np
 
 @dataclass(frozen=True)
 class LidarSpec:
-    """Beam count, range limits (m) and mounting height over base_link (m)."""
+    """Beam count, range limits (m), mounting height over base_link (m) and field of view
+    (deg)."""
 
     beams: int = 360
     range_min_m: float = 0.12
     range_max_m: float = 8.0
     height_m: float = 0.1
+    field_deg: float = 360.0
 
     @property
     def angle_min_rad(self) -> float:
         """Angle of the first beam (rad)."""
-        return -math.pi
+        return -math.radians(self.field_deg) / 2.0
 
     @property
     def angle_increment_rad(self) -> float:
-        """Angle between neighbouring beams (rad)."""
-        return 2.0 * math.pi / self.beams
+        """Angle between neighbouring beams (rad): a full circle has no beam at +pi, a narrower
+        field has beams at both edges."""
+        if self.field_deg >= 360.0 or self.beams < 2:
+            return math.radians(self.field_deg) / self.beams
+        return math.radians(self.field_deg) / (self.beams - 1)
 
     @property
     def angle_max_rad(self) -> float:

@@ -291,15 +291,16 @@ def random_obstacles(generator: random.Random, count: int,
     return tuple(obstacles)
 
 
-def reachable_floor(scene: Scene, start_xy: Sequence[float] = (0.0, 0.0)):
+def reachable_floor(scene: Scene, start_xy: Sequence[float] = (0.0, 0.0),
+                    robot_radius_m: float = ROBOT_RADIUS_M):
     """(xs, ys, mask): cell centres of a GRID_STEP_M grid over the bounds and which cells the
     robot's centre can reach from ``start_xy`` without any solid coming closer than the body
-    radius plus REACH_MARGIN_M."""
+    radius ``robot_radius_m`` plus REACH_MARGIN_M."""
     x_min, x_max, y_min, y_max = scene.bounds
     xs = np.arange(x_min + GRID_STEP_M / 2.0, x_max, GRID_STEP_M)
     ys = np.arange(y_min + GRID_STEP_M / 2.0, y_max, GRID_STEP_M)
     grid_x, grid_y = np.meshgrid(xs, ys)
-    free = (scene.clearance_m(grid_x, grid_y) >= ROBOT_RADIUS_M + REACH_MARGIN_M)
+    free = (scene.clearance_m(grid_x, grid_y) >= robot_radius_m + REACH_MARGIN_M)
     _, labels = cv2.connectedComponents(free.astype(np.uint8), connectivity=8)
     column = int(np.clip(np.searchsorted(xs, start_xy[0]), 0, xs.size - 1))
     row = int(np.clip(np.searchsorted(ys, start_xy[1]), 0, ys.size - 1))
@@ -310,11 +311,13 @@ def reachable_floor(scene: Scene, start_xy: Sequence[float] = (0.0, 0.0)):
 
 
 def random_free_can_position(generator: random.Random, scene: Scene, min_distance_m: float,
-                             start_xy: Sequence[float] = (0.0, 0.0)) -> Tuple[float, float]:
+                             start_xy: Sequence[float] = (0.0, 0.0),
+                             robot_radius_m: float = ROBOT_RADIUS_M) -> Tuple[float, float]:
     """A can centre anywhere on the floor with CAN_CLEARANCE_M of free floor around the can, at
-    least ``min_distance_m`` from the start and reachable by the robot (ValueError if none)."""
-    xs, ys, reachable = reachable_floor(scene, start_xy)
-    reach_m = CAN_RADIUS_M + ROBOT_RADIUS_M + REACH_GAP_M
+    least ``min_distance_m`` from the start and reachable by a robot of ``robot_radius_m``
+    (ValueError if none)."""
+    xs, ys, reachable = reachable_floor(scene, start_xy, robot_radius_m)
+    reach_m = CAN_RADIUS_M + robot_radius_m + REACH_GAP_M
     reachable_x = np.meshgrid(xs, ys)[0][reachable]
     reachable_y = np.meshgrid(xs, ys)[1][reachable]
     x_min, x_max, y_min, y_max = scene.bounds

@@ -8,7 +8,7 @@ steps pybullet once, and says whether a camera frame, a scan and a state message
 import math
 import os
 import random
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from types import SimpleNamespace
 from typing import Callable, FrozenSet, Optional, Sequence, Tuple
 
@@ -16,16 +16,17 @@ import numpy as np
 import yaml
 
 from can_seeker.camera_geometry import camera_pose_from_mount
-from can_seeker.camera_mount import MOUNT_PARAMS, CameraMount, random_mount
+from can_seeker.camera_mount import CAMERA_FORWARD_M, MOUNT_PARAMS, CameraMount, random_mount
 from can_seeker.sim.drive import CommandWatchdog, TwistLimiter
 from can_seeker.frames import SIM_FRAME_PARAMS
 from can_seeker.params import Param
+from can_seeker.robot_profile import ProfileError, load_profile
 from can_seeker.sim.appearance import random_appearance
 from can_seeker.sim.lidar import LidarSpec
 from can_seeker.sim.realism import (PRESETS, REALISM_PARAMS, Realism, spec_from_config,
                                     trial_key)
 from can_seeker.sim.scene import (CAN_CLEARANCE_M, CAN_RADIUS_M, OBSTACLE_RGBA, ROBOT_RADIUS_M,
-                                  WALL_RGBA, WHEEL_SEPARATION_M, Scene, can_visible, empty_bounds,
+                                  WALL_RGBA, Scene, can_visible, empty_bounds,
                                   random_can_position, random_free_can_position,
                                   random_obstacles, room_walls, scene_from_dict)
 from can_seeker.sim.world import CAN_RGBA, CAN_TEXTURES, RENDERERS, CameraSpec, World
@@ -50,6 +51,11 @@ PARAMS = (
     Param('encoding', 'bgr8', 'image encoding of /camera/image_raw', choices=('bgr8', 'rgb8')),
     Param('camera_rate', 15.0, 'camera frame rate (Hz, sim time)', 0.1, 240.0),
     *MOUNT_PARAMS,
+    Param('robot', '', 'robot profile (a name in the package\'s config/robots/ or a YAML path) '
+          'the robot is built from: body, wheels, camera mount and field of view, lidar; it '
+          'replaces ~camera_height, ~camera_pitch_deg, ~fov_deg and the ~scan_ rate, beams, '
+          'ranges and height (a profile without a lidar turns it off); empty: the built-in '
+          'robot (config/robots/default.yaml) with those parameters'),
     Param('physics_rate', 240.0, 'physics steps per second of sim time (Hz); /clock ticks at '
           'every step unless ~clock_rate is set', 60.0, 2000.0),
     Param('clock_rate', 0.0, 'rate of /clock (Hz, sim time; 0: at every physics step); /clock '
@@ -177,15 +183,44 @@ def load_world_file(path: str) -> dict:
     return data
 
 
+def apply_profile(config: SimpleNamespace, warn: Callable[[str], None],
+                  robot_dirs: Sequence[str] = ()):
+    """Set ``profile`` (the ``~robot`` profile, or None), ``camera_forward``, ``scan_field_deg``
+    and ``robot_radius`` on ``config``; a profile's camera and lidar replace the parameters'."""
+    config.profile, config.camera_forward, config.scan_field_deg = None, CAMERA_FORWARD_M, 360.0
+    config.robot_radius = ROBOT_RADIUS_M
+    if not config.robot:
+        return
+    try:
+        profile = load_profile(config.robot, robot_dirs)
+    except ProfileError as error:
+        warn('parameter ~robot: %s; using the built-in robot' % error)
+        return
+    config.profile, config.robot_radius = profile, profile.body_radius_m
+    camera = profile.camera
+    config.camera_height, config.camera_pitch_deg = camera.height_m, camera.pitch_deg
+    config.camera_forward, config.fov_deg = camera.forward_m, camera.vertical_fov_deg
+    lidar = profile.lidar
+    if lidar is None:
+        config.scan_rate = 0.0
+        return
+    config.scan_rate, config.scan_beams = lidar.rate_hz, lidar.beams
+    config.scan_range_min, config.scan_range_max = lidar.range_min_m, lidar.range_max_m
+    config.scan_height, config.scan_field_deg = lidar.height_m, lidar.field_deg
+
+
 def checked_config(params: SimpleNamespace, warn: Callable[[str], None],
-                   world_dirs: Sequence[str] = ()) -> SimpleNamespace:
+                   world_dirs: Sequence[str] = (),
+                   robot_dirs: Sequence[str] = ()) -> SimpleNamespace:
     """``params`` with the checks that span parameters applied: bad values warned and replaced.
 
     Adds ``can_color``, ``floor_color``, ``wall_color``, ``obstacle_color`` (parsed colours),
     ``world_data`` (the world file's mapping, or None), ``scene`` (the world at ~seed) and
-    ``can_position`` (where the can starts). World files are looked up in ``world_dirs``.
+    ``can_position`` (where the can starts), and the robot profile's (:func:`apply_profile`).
+    World files are looked up in ``world_dirs``, robot profiles in ``robot_dirs``.
     """
     config = SimpleNamespace(**vars(params))
+    apply_profile(config, warn, robot_dirs)
     config.can_color = _checked_colour(config, 'can_rgba', warn)
     config.floor_color = _checked_colour(config, 'floor_rgba', warn, allow_empty=True)
     config.wall_color = _checked_colour(config, 'wall_rgba', warn)
@@ -276,13 +311,15 @@ def scene_for(config: SimpleNamespace, seed: int, warn: Callable[[str], None]) -
                                                   config.can_max_distance))
     try:
         return scene.with_can(random_free_can_position(generator, scene,
-                                                       config.can_min_distance))
+                                                       config.can_min_distance,
+                                                       robot_radius_m=config.robot_radius))
     except ValueError as error:
         warn('%s; removing the obstacles' % error)
     scene = Scene(scene.bounds, scene.walls, (), **colours)
     try:
         return scene.with_can(random_free_can_position(generator, scene,
-                                                       config.can_min_distance))
+                                                       config.can_min_distance,
+                                                       robot_radius_m=config.robot_radius))
     except ValueError as error:
         warn('%s even without obstacles; using the empty world' % error)
     return Scene(empty_bounds(), **colours).with_can(random_can_position(
@@ -304,9 +341,10 @@ def camera_spec(config: SimpleNamespace) -> CameraSpec:
 def mount_for(config: SimpleNamespace, seed: int) -> CameraMount:
     """The camera mount of the world of ``seed``: drawn from it when ``randomize_mount``, else
     the parameters' one."""
+    forward_m = getattr(config, 'camera_forward', CAMERA_FORWARD_M)
     if config.randomize_mount:
-        return random_mount(seed)
-    return CameraMount(config.camera_height, config.camera_pitch_deg)
+        return replace(random_mount(seed), forward_m=forward_m)
+    return CameraMount(config.camera_height, config.camera_pitch_deg, forward_m)
 
 
 class RateSchedule:
@@ -366,7 +404,7 @@ class Odometry2D:
 def lidar_spec(config: SimpleNamespace) -> LidarSpec:
     """The lidar described by the parameters."""
     return LidarSpec(config.scan_beams, config.scan_range_min, config.scan_range_max,
-                     config.scan_height)
+                     config.scan_height, getattr(config, 'scan_field_deg', 360.0))
 
 
 class Simulation:
@@ -393,7 +431,7 @@ class Simulation:
         self._touched = frozenset()
         self._bumped = False
         self.realism = realism if realism is not None else Realism(
-            PRESETS['ideal'], world.camera.intrinsics, encoding, WHEEL_SEPARATION_M)
+            PRESETS['ideal'], world.camera.intrinsics, encoding, world.wheel_separation_m)
         self.seed = seed
         self.scan_wanted = True
         """Whether a due lidar scan is cast (the owner clears it while nobody reads the scans:
@@ -405,7 +443,7 @@ class Simulation:
         """A Simulation of ``world`` with the rates, limits and realism of a
         :func:`checked_config`."""
         realism = Realism(spec_from_config(config), world.camera.intrinsics, config.encoding,
-                          WHEEL_SEPARATION_M)
+                          world.wheel_separation_m)
         return cls(world, config.physics_rate, config.camera_rate, config.state_rate,
                    config.cmd_timeout, config.max_linear_accel, config.max_angular_accel,
                    config.encoding, lidar_spec(config), config.scan_rate, realism, config.seed,
@@ -497,7 +535,8 @@ class Simulation:
         if problem is not None:
             return False, problem
         robot_x_m, robot_y_m, _ = self.world.robot_state().position
-        gap_m = math.hypot(x_m - robot_x_m, y_m - robot_y_m) - MIN_CAN_CLEARANCE_M
+        gap_m = (math.hypot(x_m - robot_x_m, y_m - robot_y_m)
+                 - (self.world.body_radius_m + CAN_RADIUS_M))
         if gap_m < 0.0:
             return False, ('can at (%.3f, %.3f) would overlap the robot at (%.3f, %.3f)'
                            % (x_m, y_m, robot_x_m, robot_y_m))
@@ -516,7 +555,7 @@ class Simulation:
         self.world.step()
         self.steps += 1
         if not realism.spec.odometry_is_true:
-            half_track = WHEEL_SEPARATION_M / 2.0
+            half_track = self.world.wheel_separation_m / 2.0
             linear_accel = (linear_mps - before[0]) / dt_s
             turn_accel = (angular_radps - before[1]) * half_track / dt_s
             realism.odometry.update(self._true_pose(), dt_s, (linear_accel - turn_accel,

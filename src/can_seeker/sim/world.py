@@ -25,11 +25,13 @@ from can_seeker.camera_geometry import intrinsics_from_vertical_fov, quaternion_
     yaw_from_quaternion
 from can_seeker.camera_mount import CameraMount
 from can_seeker.robot_model import robot_urdf
+from can_seeker.robot_profile import RobotProfile
 from can_seeker.sim import can_texture
 from can_seeker.sim.drive import wheel_speeds
 from can_seeker.sim.lidar import LidarSpec
 from can_seeker.sim.scene import (CAN_HEIGHT_M, CAN_MASS_KG, CAN_RADIUS_M, EMPTY_FLOOR_HALF_SIDE_M,
-                                  WHEEL_RADIUS_M, WHEEL_SEPARATION_M, Scene, Solid, empty_bounds)
+                                  ROBOT_RADIUS_M, WHEEL_RADIUS_M, WHEEL_SEPARATION_M, Scene, Solid,
+                                  empty_bounds)
 
 WHEEL_MAX_TORQUE_NM = 2.0
 CAN_LATERAL_FRICTION = 0.5
@@ -131,13 +133,14 @@ class World:
     ``renderer`` is 'auto' (EGL, TinyRenderer fallback), 'egl' (RuntimeError if unusable) or
     'tiny'. ``gui`` opens the pybullet GUI (needs a display); it renders with its own OpenGL.
     Without a scene the world is the empty floor with the can 1 m ahead. ``can_texture`` is one
-    of CAN_TEXTURES.
+    of CAN_TEXTURES. ``profile`` gives the robot its body, wheels and casters
+    (:func:`can_seeker.robot_model.apply_body`; None: the URDF's own, today's robot).
     """
 
     def __init__(self, urdf_path: str, camera: CameraSpec, physics_rate_hz: float = 240.0,
                  renderer: str = 'auto', gui: bool = False,
                  can_rgba: Sequence[float] = CAN_RGBA, scene: Optional[Scene] = None,
-                 can_texture: str = 'plain'):
+                 can_texture: str = 'plain', profile: Optional[RobotProfile] = None):
         if renderer not in RENDERERS:
             raise ValueError('renderer must be one of %s, got %r'
                              % (', '.join(RENDERERS), renderer))
@@ -148,6 +151,11 @@ class World:
         self._texture_dir = tempfile.mkdtemp(prefix='can_seeker_textures_')
         self._floor_meshes = {}
         self.camera = camera
+        self.profile = profile
+        self.body_radius_m = ROBOT_RADIUS_M if profile is None else profile.body_radius_m
+        self.wheel_separation_m = (WHEEL_SEPARATION_M if profile is None
+                                   else profile.wheel_separation_m)
+        self.wheel_radius_m = WHEEL_RADIUS_M if profile is None else profile.wheel_radius_m
         self.dt_s = 1.0 / physics_rate_hz
         self._client = BulletClient(connection_mode=pybullet.GUI if gui else pybullet.DIRECT)
         self._egl_plugin = -1
@@ -201,7 +209,7 @@ class World:
         """The robot file ``urdf_path`` with this world's camera mount applied (the model
         robot_description holds for the same mount), written beside the textures."""
         with open(urdf_path) as template:
-            urdf = robot_urdf(template.read(), self.camera.mount)
+            urdf = robot_urdf(template.read(), self.camera.mount, profile=self.profile)
         path = os.path.join(self._texture_dir, 'robot.urdf')
         with open(path, 'w') as mounted:
             mounted.write(urdf)
@@ -376,7 +384,8 @@ class World:
                     targetPositions=self._hold_angles_rad, forces=[WHEEL_MAX_TORQUE_NM] * 2)
             return
         self._hold_angles_rad = None
-        left, right = wheel_speeds(linear_mps, angular_radps, WHEEL_SEPARATION_M, WHEEL_RADIUS_M)
+        left, right = wheel_speeds(linear_mps, angular_radps, self.wheel_separation_m,
+                                   self.wheel_radius_m)
         client.setJointMotorControlArray(
             self._robot, self._wheel_joints, pybullet.VELOCITY_CONTROL,
             targetVelocities=[left, right], forces=[WHEEL_MAX_TORQUE_NM] * 2)

@@ -104,7 +104,8 @@ class WorkerSystem:
         rospy.init_node('evaluate', disable_signals=True)
         self.launch.wait_for_services()
         self.criteria = Criteria(stop_distance_m=rospy.get_param('can_stopper/stop_distance'),
-                                 time_limit_s=spec.time_limit_s)
+                                 time_limit_s=spec.time_limit_s,
+                                 robot_radius_m=rospy.get_param('can_stopper/robot_radius'))
         self.runner = TrialRunner(self.criteria)
 
     def close(self):

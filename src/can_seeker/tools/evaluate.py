@@ -9,6 +9,10 @@ are drawn anew, in a world file the can is drawn unless the file places it; with
 ``--randomize-appearance`` the floor, wall and obstacle colours are drawn from the seed too,
 with ``--randomize-mount`` the camera's height (0.15-0.35 m) and pitch (15-35 deg).
 ``--scan-topics "/camera_scan /scan"`` lets can_stopper fuse the camera scan and the lidar.
+``--robot NAME`` runs the trials with a robot profile (config/robots/NAME.yaml or a path): the
+simulator builds that robot, the nodes get its parameters, the judge measures the gap from its
+``robot_radius``, and unless ``--time-limit`` is given a robot slower than 0.4 m/s gets the time
+limit scaled by 0.4 m/s over its max_linear_mps (90 s x 0.4 / 0.22 = 164 s for a Burger).
 Prints a progress bar, then a summary table; ``--json FILE`` writes every trial and the summary,
 again after each finished trial, and ``--resume`` runs only the trials that file is missing.
 ``--result FILE`` writes the summary as a result file for docs/results/ (the command, the code's
@@ -53,12 +57,15 @@ from can_seeker.evaluation.sweep import (override_arg, parse_sweep, plot_sweep,
                                          setting_label, sweep_grid, sweep_table)
 from can_seeker.evaluation.trials import Criteria, json_ready, summary_table
 from can_seeker.output_paths import default_output_dir
+from can_seeker.robot_profile import ProfileError, load_profile
 
 SIM = defaults(SIM_PARAMS)
 CONTROL = defaults(CONTROL_PARAMS)
 WORLD_OPTIONS = ('world', 'obstacles', 'room_size', 'floor_rgba', 'wall_rgba', 'obstacle_rgba',
                  'can_texture', 'realism')
 CONTROL_OPTIONS = ('scan_topics',)
+REFERENCE_SPEED_MPS = 0.4
+"""Top speed the default time limit is meant for (can_stopper's default ~max_linear)."""
 LOCKSTEP_CLOCK_RATE_HZ = 50.0
 """/clock in lockstep (Hz, sim time): at every physics step (240 Hz) it cost more CPU than the
 detector, every node receiving and handling each tick; the nodes' timers need no finer clock."""
@@ -120,8 +127,10 @@ def parse_args(argv):
                         'combination); writes a table and a plot to --sweep-output')
     parser.add_argument('--sweep-output', default=default_output_dir('sweep'), metavar='DIR',
                         help='folder for sweep.md, sweep.json and sweep.png')
-    parser.add_argument('--time-limit', type=float, default=Criteria.time_limit_s,
-                        help='sim time allowed to reach STOPPED (s)')
+    parser.add_argument('--robot', default='', help='robot profile: a name in the package\'s '
+                        'config/robots/ or a YAML path; empty: the built-in robot')
+    parser.add_argument('--time-limit', type=float, default=None,
+                        help='sim time allowed to reach STOPPED (s); default %g, scaled for a slow --robot' % Criteria.time_limit_s)
     parser.add_argument('--real-time-factor', type=float, default=0.0,
                         help='sim speed; 0 runs as fast as possible')
     parser.add_argument('--clock-rate', type=float, metavar='HZ',
@@ -162,6 +171,17 @@ def parse_args(argv):
                         help='folder for the roslaunch output of each worker\'s system; '
                         'None: the worker\'s temp folder')
     args = parser.parse_args(argv)
+    if args.robot:
+        try:
+            profile = load_profile(args.robot, [robots_dir()])
+        except ProfileError as error:
+            parser.error(str(error))
+        if os.path.isfile(args.robot):
+            args.robot = os.path.abspath(args.robot)
+        if args.time_limit is None:
+            args.time_limit = scaled_time_limit(profile.max_linear_mps)
+    if args.time_limit is None:
+        args.time_limit = Criteria.time_limit_s
     if args.clock_rate is None:
         args.clock_rate = LOCKSTEP_CLOCK_RATE_HZ if args.lockstep else 0.0
     if args.cluster and args.jobs != 1:
@@ -176,6 +196,17 @@ def parse_args(argv):
         parser.error('--resume continues one evaluation, not a --sweep, --repeat-check or '
                      '--cpu-features-check')
     return args
+
+
+def robots_dir():
+    from can_seeker.ros.paths import robots_dir as package_robots_dir
+    return package_robots_dir()
+
+
+def scaled_time_limit(max_linear_mps: float) -> float:
+    """The trial time limit (s) for a robot of this top speed: the default limit, scaled up by
+    REFERENCE_SPEED_MPS over the speed for a slower robot (it has the same floor to cover)."""
+    return Criteria.time_limit_s * max(1.0, REFERENCE_SPEED_MPS / max_linear_mps)
 
 
 def _room_size(text):
@@ -211,7 +242,7 @@ def launch_args(args):
             'can_texture': args.can_texture, 'realism': args.realism,
             'scan_topics': args.scan_topics, 'lockstep': str(args.lockstep).lower(),
             'randomize_appearance': str(args.randomize_appearance).lower(),
-            'randomize_mount': str(args.randomize_mount).lower()}
+            'randomize_mount': str(args.randomize_mount).lower(), 'robot': args.robot}
 
 
 def settings(args):
@@ -220,6 +251,8 @@ def settings(args):
         'trials', 'seed', 'min_distance', 'max_distance', 'width', 'height', 'camera_height',
         'camera_pitch', 'can_rgba', 'time_limit', 'real_time_factor', 'lockstep',
         'randomize_appearance', 'randomize_mount') + WORLD_OPTIONS + CONTROL_OPTIONS}
+    if args.robot:
+        record['robot'] = args.robot
     record['params'] = dict(args.param)
     return record
 
@@ -360,7 +393,10 @@ def main():
               % len(ledger.results()), file=sys.stderr)
     results, record_settings = ledger.results(), ledger.settings
     summary = ledger.summary()
-    if record_settings.get('randomize_mount'):
+    if record_settings.get('robot'):
+        camera = 'robot %s (its camera), time limit %.0f s' % (record_settings['robot'],
+                                                             record_settings['time_limit'])
+    elif record_settings.get('randomize_mount'):
         camera = 'camera mount drawn per trial (%.2f-%.2f m / %.0f-%.0f deg)' % (
             *RANDOM_HEIGHT_RANGE_M, *RANDOM_PITCH_RANGE_DEG)
     else:

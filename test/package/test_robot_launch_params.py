@@ -1,0 +1,57 @@
+"""robot.launch gives each node the profile's values over its launch defaults, and the user's
+params file over the profile: what roslaunch would set (--dump-params), no master needed."""
+import pathlib
+import subprocess
+
+import pytest
+import yaml
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+
+
+def dump(*args):
+    result = subprocess.run(['roslaunch', '--dump-params', str(REPO / 'launch' / 'robot.launch')]
+                            + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            universal_newlines=True, check=False)
+    assert result.returncode == 0, result.stdout
+    return yaml.safe_load(result.stdout)
+
+
+def test_the_profile_wins_over_the_node_defaults():
+    params = dump('robot:=turtlebot3_burger')
+    assert params['/can_stopper/robot_radius'] == pytest.approx(0.124)
+    assert params['/obstacle_scan/robot_radius'] == pytest.approx(0.124)
+    assert params['/can_stopper/max_linear'] == pytest.approx(0.22)
+    assert params['/can_stopper/explore_linear'] == pytest.approx(0.22)
+    assert params['/can_stopper/camera_x'] == pytest.approx(0.076)
+    assert params['/image_converter/camera_pitch_deg'] == 0.0
+    assert params['/obstacle_scan/camera_height'] == pytest.approx(0.102)
+
+
+def test_the_users_params_win_over_the_profile(tmp_path):
+    user = tmp_path / 'mine.yaml'
+    user.write_text('can_stopper:\n  max_linear: 0.15\n  stop_distance: 0.4\n'
+                    'obstacle_scan:\n  robot_radius: 0.3\n')
+    params = dump('robot:=turtlebot3_burger', 'params:=%s' % user)
+    assert params['/can_stopper/max_linear'] == pytest.approx(0.15)
+    assert params['/can_stopper/stop_distance'] == pytest.approx(0.4)
+    assert params['/obstacle_scan/robot_radius'] == pytest.approx(0.3)
+    assert params['/can_stopper/robot_radius'] == pytest.approx(0.124)
+
+
+def test_the_launch_wires_the_robots_topics_and_frames_and_sets_no_sim_time():
+    params = dump('robot:=create2', 'base_frame:=base_footprint', 'odom:=create1/odom',
+                  'scan:=scan')
+    assert '/use_sim_time' not in params
+    assert not any(key.startswith('/sim/') for key in params)
+    assert params['/can_stopper/lockstep'] is False
+    assert params['/can_stopper/base_frame'] == 'base_footprint'
+    assert params['/obstacle_scan/scan_frame'] == 'base_footprint'
+    assert params['/can_stopper/odom_topic'] == 'create1/odom'
+    assert params['/can_stopper/scan_topics'] == 'camera_scan scan'
+    assert params['/can_stopper/robot_radius'] == pytest.approx(0.17)
+
+
+def test_the_example_params_file_loads():
+    params = dump('robot:=create2', 'params:=%s' % (REPO / 'config' / 'robot.yaml'))
+    assert params['/can_stopper/stop_distance'] == pytest.approx(0.3)
