@@ -64,6 +64,7 @@ def test_a_row_per_file_with_its_figures():
     assert 'real_time_factor 3.5' in page
     table = readme_table([('a.json', EVALUATE)])
     assert '| [a](docs/results/a.json) | 1/2, 1 contacts, 11.2 / 54.2 s median / max' in table
+    assert 'abc1234' not in table
 
 
 def test_the_readme_table_goes_between_the_markers_only():

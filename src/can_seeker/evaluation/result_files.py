@@ -217,13 +217,14 @@ def headline(record: dict) -> str:
 def readme_table(results: Sequence[Tuple[str, dict]],
                  link_prefix: str = 'docs/results/') -> str:
     """The README's summary table: a row per result file, kinds in the order of
-    :func:`results_markdown`."""
+    :func:`results_markdown`; the commit and machine stay in the file it links and in
+    docs/results.md (a manual names no commit)."""
     order = sorted(results, key=lambda item: (_kind_order(item[1]['kind']), item[0]))
-    lines = ['| run | result | command | commit |', '|---|---|---|---|']
+    lines = ['| run | result | command |', '|---|---|---|']
     for name, record in order:
         lines.append('| ' + ' | '.join(_cell(cell) for cell in (
             '[%s](%s%s)' % (name[:-len('.json')], link_prefix, name), headline(record),
-            '`%s`' % record['command'], record['commit'])) + ' |')
+            '`%s`' % record['command'])) + ' |')
     return '\n'.join(lines)
 
 
