@@ -13,6 +13,11 @@ many times faster than real time the loop would run on one core of its own (wall
 on the machine's other load; CPU time much less so). ``--py-spy DIR`` samples every Python
 process of the loop with py-spy (if on PATH) over the same window and writes a flame graph per
 process. ``--result FILE`` writes the figures as a result file for docs/results/.
+
+``--realism ideal realistic`` measures each preset in turn, each on a system of its own (a
+bench_loop process per preset: rospy has one node per process), and prints the presets' CPU per
+sim second side by side. The other ``evaluate`` options (``--scan-topics``, ``--param``...)
+pass through to every preset's run.
 """
 import argparse
 import json
