@@ -255,6 +255,13 @@ def _timeouts(summary: dict) -> str:
                                   summary['trials_with_lockstep_timeouts'])
 
 
+def _per_core(summary: dict) -> str:
+    if summary.get('real_time_factor_per_core') is None:
+        return 'n/a'
+    return '%.2fx (%.1f sim s per %.1f CPU s of every process, start-up included)' % (
+        summary['real_time_factor_per_core'], summary['batch_sim_s'], summary['batch_cpu_s'])
+
+
 def summary_table(summary: dict) -> str:
     """The summary as a two-column Markdown table."""
     rows = [
@@ -277,6 +284,7 @@ def summary_table(summary: dict) -> str:
         ('can not visible from the start', '%d (%d of them succeeded)'
          % (summary['can_hidden_at_start'], summary['successes_can_hidden_at_start'])),
         ('real-time factor', _format(summary['real_time_factor'], digits=2, unit='x')),
+        ('real-time factor per core (whole batch)', _per_core(summary)),
         ('lockstep time-outs during trials', _timeouts(summary)),
     ]
     lines = ['| metric | value |', '|---|---|']

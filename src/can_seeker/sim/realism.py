@@ -235,17 +235,18 @@ class CameraModel:
         self._maps = (distortion_maps(intrinsics, spec.camera_k1, spec.camera_k2,
                                       self.render_margin_px) if distorted else None)
         self._vignette = self._vignette_gain() if spec.camera_vignetting else None
+        self._noise = self._sigma = None
         self.new_trial(np.random.default_rng(0))
 
     def _vignette_gain(self) -> np.ndarray:
-        """Per-pixel gain 1 at the principal point down to 1 - vignetting in the corners
-        (a cos^4-like fall-off, quadratic in the radius)."""
+        """Per-pixel gain (HxWx3, the same for each channel) 1 at the principal point down to
+        1 - vignetting in the corners (a cos^4-like fall-off, quadratic in the radius)."""
         intrinsics = self.intrinsics
         columns, rows = np.meshgrid(np.arange(intrinsics.width) - intrinsics.cx,
                                     np.arange(intrinsics.height) - intrinsics.cy)
         radius2 = columns ** 2 + rows ** 2
         gain = 1.0 - self.spec.camera_vignetting * radius2 / radius2.max()
-        return gain.astype(np.float32)[:, :, None]
+        return np.repeat(gain.astype(np.float32)[:, :, None], 3, axis=2)
 
     def new_trial(self, rng: np.random.Generator):
         """Draw this trial's light and restart white balance from ``rng``; the exposure starts
@@ -304,29 +305,53 @@ class CameraModel:
         (``linear_mps``, ``angular_radps``); advances exposure and white balance."""
         if self.identity:
             return frame
-        spec, rng = self.spec, self._rng
+        spec = self.spec
         image = frame.astype(np.float32)
         if self._maps is not None:
             image = cv2.remap(image, self._maps[0], self._maps[1], cv2.INTER_LINEAR,
                               borderMode=cv2.BORDER_CONSTANT)
         if spec.camera_exposure_s > 0.0:
             image = self._motion_blur(image, linear_mps, angular_radps)
+        # From here on in place, through OpenCV on a one-channel view of the image (an OpenCV
+        # scalar on a three-channel image would reach the first channel only).
+        levels = image.reshape(image.shape[0], -1)
         if self._vignette is not None:
-            image *= self._vignette
-        scene_mean = float(image.mean()) * self.intensity
-        image *= self.channel_gains()
+            cv2.multiply(image, self._vignette, dst=image)
+        scene_mean = cv2.mean(levels)[0] * self.intensity
+        cv2.multiply(image, tuple(float(gain) for gain in self.channel_gains()) + (0.0,),
+                     dst=image)
         self.frame_wb_shift_log = self.wb_shift_log()
         if spec.camera_read_noise or spec.camera_shot_noise:
-            variance = spec.camera_shot_noise * np.maximum(image, 0.0) + spec.camera_read_noise ** 2
-            image += np.sqrt(variance) * rng.standard_normal(image.shape, dtype=np.float32)
-        out = np.clip(image + 0.5, 0.0, 255.0).astype(np.uint8)
-        self._expose(scene_mean, float(out.mean()))
+            self._add_noise(levels)
+        cv2.add(levels, 0.5, dst=levels)
+        cv2.max(levels, 0.0, dst=levels)
+        cv2.min(levels, 255.0, dst=levels)
+        out = image.astype(np.uint8)
+        self._expose(scene_mean, cv2.mean(out.reshape(out.shape[0], -1))[0])
         if spec.camera_jpeg_quality > 0:
             ok, encoded = cv2.imencode('.jpg', out, [cv2.IMWRITE_JPEG_QUALITY,
                                                      int(spec.camera_jpeg_quality)])
             if ok:
                 out = cv2.imdecode(encoded, cv2.IMREAD_COLOR)
         return out
+
+    def _add_noise(self, levels: np.ndarray):
+        """Add the sensor's noise to ``levels`` (float32, one channel, in place): Gaussian with
+        variance shot noise x signal + read noise^2 at each pixel. The standard normal draws
+        come from OpenCV's generator, seeded per frame from the trial's camera stream."""
+        spec = self.spec
+        if self._noise is None or self._noise.shape != levels.shape:
+            self._noise = np.empty_like(levels)
+            self._sigma = np.empty_like(levels)
+        noise, sigma = self._noise, self._sigma
+        cv2.setRNGSeed(int(self._rng.integers(1, 2 ** 31)))
+        cv2.randn(noise, 0.0, 1.0)
+        # The signal is never negative here: the render, the vignetting and the gains are not.
+        cv2.addWeighted(levels, spec.camera_shot_noise, levels, 0.0,
+                        spec.camera_read_noise ** 2, dst=sigma)
+        cv2.sqrt(sigma, dst=sigma)
+        cv2.multiply(noise, sigma, dst=noise)
+        cv2.add(levels, noise, dst=levels)
 
     def _expose(self, scene_mean: float, image_mean: float):
         """Auto exposure and white balance for the next frame: the exposure moves a fraction

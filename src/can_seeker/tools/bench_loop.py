@@ -13,8 +13,14 @@ many times faster than real time the loop would run on one core of its own (wall
 on the machine's other load; CPU time much less so). ``--py-spy DIR`` samples every Python
 process of the loop with py-spy (if on PATH) over the same window and writes a flame graph per
 process. ``--result FILE`` writes the figures as a result file for docs/results/.
+
+``--realism ideal realistic`` measures each preset in turn, each on a system of its own (a
+bench_loop process per preset: rospy has one node per process), and prints the presets' CPU per
+sim second side by side. The other ``evaluate`` options (``--scan-topics``, ``--param``...)
+pass through to every preset's run.
 """
 import argparse
+import json
 import os
 import re
 import shutil
@@ -28,6 +34,7 @@ import rospy
 
 from can_seeker.evaluation.result_files import command_line, result_record, write_result
 from can_seeker.evaluation.trials import Criteria
+from can_seeker.sim.realism import REALISM_PRESETS
 from can_seeker.tools.closed_loop import LIVE_TIMEOUT_S, LaunchedSystem, TrialRunner
 from can_seeker.tools.evaluate import launch_args, parse_args
 
@@ -211,22 +218,89 @@ class PySpy:
                                                         names.get(tid, '?')))
 
 
+def run_presets(presets, args, evaluate_argv):
+    """Measure each preset in a bench_loop process of its own (rospy has one node per process,
+    each preset its own master) and print them side by side; the exit status."""
+    folder = tempfile.mkdtemp(prefix='bench_loop_')
+    measurements = []
+    for preset in presets:
+        path = (result_path(args.result, preset, presets) if args.result
+                else os.path.join(folder, '%s.json' % preset))
+        child_argv = ['--trials', str(args.trials), '--seed', str(args.seed), '--realism', preset,
+                      '--result', path]
+        if args.py_spy:
+            child_argv += ['--py-spy', os.path.join(args.py_spy, preset)]
+        if args.log:
+            child_argv += ['--log', result_path(args.log, preset, presets)]
+        status = subprocess.call([sys.executable, '-m', 'can_seeker.tools.bench_loop']
+                                 + child_argv + evaluate_argv)
+        if status != 0:
+            print('bench_loop: the %s run failed (exit status %d)' % (preset, status),
+                  file=sys.stderr)
+            return status
+        with open(path) as record:
+            measurements.append((preset, json.load(record)['figures']))
+    print(side_by_side_table(measurements))
+    return 0
+
+
+def side_by_side_table(measurements):
+    """Markdown table from [(preset, result figures)]: CPU ms per sim s of each process under
+    each preset, the totals and the x real time per core."""
+    names = []
+    for _, figures in measurements:
+        names += [name for name in figures['cpu_ms_per_sim_s'] if name not in names]
+    lines = ['| CPU ms per sim s | %s |' % ' | '.join(preset for preset, _ in measurements),
+             '|---' * (len(measurements) + 1) + '|']
+    for name in names:
+        lines.append('| %s | %s |' % (name, ' | '.join(
+            '%.0f' % figures['cpu_ms_per_sim_s'][name] if name in figures['cpu_ms_per_sim_s']
+            else '' for _, figures in measurements)))
+    lines.append('| **total** | %s |' % ' | '.join(
+        '**%.0f**' % figures['cpu_ms_per_sim_s_total'] for _, figures in measurements))
+    lines.append('| **x real time per core** | %s |' % ' | '.join(
+        '**%.2f**' % figures['real_time_per_core'] for _, figures in measurements))
+    lines.append('| successes | %s |' % ' | '.join(
+        '%d/%d' % (figures['successes'], figures['trials']) for _, figures in measurements))
+    return '\n'.join(lines)
+
+
+def result_path(path, preset, presets):
+    """Where the file of ``preset`` goes: ``path`` itself for a single preset, else ``path``
+    with ``-PRESET`` before its extension."""
+    if len(presets) == 1:
+        return path
+    stem, extension = os.path.splitext(path)
+    return '%s-%s%s' % (stem, preset, extension)
+
+
 def main(argv=None):
-    """Run the trials and print the CPU breakdown per process."""
+    """Run the trials under each realism preset and print the CPU breakdown per process."""
     parser = argparse.ArgumentParser(prog='bench_loop', description=__doc__.splitlines()[0])
     parser.add_argument('--trials', type=int, default=3, help='lockstep trials')
     parser.add_argument('--seed', type=int, default=1000, help='seed of the first trial')
+    parser.add_argument('--realism', nargs='+', action='extend', choices=REALISM_PRESETS,
+                        metavar='PRESET', help='realism presets to measure one after the other '
+                        '(a list, or repeated: --realism ideal realistic), then printed side by '
+                        'side (default: ideal)')
     parser.add_argument('--py-spy', metavar='DIR', help='write py-spy\'s collapsed stacks of '
-                        'each Python process of the loop to DIR/<process>.txt')
-    parser.add_argument('--log', help='roslaunch output (default: a temporary file)')
+                        'each Python process of the loop to DIR/<process>.txt (DIR/PRESET/ with '
+                        'several presets)')
+    parser.add_argument('--log', help='roslaunch output (default: a temporary file; LOG-PRESET '
+                        'with several presets)')
     parser.add_argument('--result', metavar='FILE', help='write the figures with this command, '
-                        'the commit and the machine as a result file (docs/results/NAME.json)')
+                        'the commit and the machine as a result file (docs/results/NAME.json; '
+                        'NAME-PRESET.json for each of several presets)')
     command_argv = rospy.myargv(argv if argv is not None else sys.argv)[1:]
     args, evaluate_argv = parser.parse_known_args(command_argv)
+    presets = list(dict.fromkeys(args.realism or ['ideal']))
     options = parse_args(['--world', 'room'] + evaluate_argv + ['--trials', str(args.trials),
-                                                                '--seed', str(args.seed)])
+                                                                '--seed', str(args.seed),
+                                                                '--realism', presets[0]])
     if not options.lockstep:
         parser.error('bench_loop measures the lockstep loop')
+    if len(presets) > 1:
+        sys.exit(run_presets(presets, args, evaluate_argv))
     log_path = args.log or tempfile.mkstemp(prefix='bench_loop_', suffix='.log')[1]
     with LaunchedSystem(launch_args(options), log_path, params=dict(options.param)) as launch:
         rospy.init_node('bench_loop', disable_signals=True)
@@ -251,9 +325,10 @@ def main(argv=None):
     sim_s = sum(result.sim_s for result in results)
     table, total_s = breakdown_table(sim_s, before, after)
     print('bench_loop: %d lockstep trials, %s world, seeds %d-%d, %dx%d camera, realism %s, '
-          '%d cores' % (len(results), options.world, options.seed,
-                        options.seed + options.trials - 1, options.width, options.height,
-                        options.realism, os.cpu_count()))
+          'scan topics %s, %d cores'
+          % (len(results), options.world, options.seed, options.seed + options.trials - 1,
+             options.width, options.height, options.realism, options.scan_topics or 'none',
+             os.cpu_count()))
     for result in results:
         print('  trial %d (seed %d): %s, %.2f sim s, final pose (%.4f, %.4f) m, %.3f deg'
               % (result.index, options.seed + result.index,
@@ -263,18 +338,23 @@ def main(argv=None):
           'average %.1f before, %.1f after\n' % (sim_s, wall_s, sim_s / wall_s,
                                                  load_before[0], load_after[0]))
     print(table)
-    print('\n%.2fx real time per core: %.2f sim s per %.2f CPU s of the whole loop'
-          % (sim_s / total_s, sim_s, total_s))
+    print('\n%.2fx real time per core: %.2f sim s per %.2f CPU s of the whole loop\n'
+          % (sim_s / total_s, sim_s, total_s), flush=True)
     if profiler is not None:
         print('py-spy stacks in %s' % args.py_spy)
     if args.result:
         used = cpu_used(before, after)
         write_result(args.result, result_record('bench_loop', command_line('bench_loop',
                                                                            command_argv), {
+            'realism': options.realism, 'scan_topics': options.scan_topics,
             'trials': len(results), 'successes': sum(result.success for result in results),
             'sim_s': sim_s, 'wall_s': wall_s, 'cpu_s_total': total_s,
             'cpu_ms_per_sim_s': {name: 1000.0 * cpu_s / sim_s for name, cpu_s in used.items()},
             'cpu_ms_per_sim_s_total': 1000.0 * total_s / sim_s,
             'real_time_per_core': sim_s / total_s, 'real_time_wall': sim_s / wall_s,
             'load_average_before': load_before[0], 'load_average_after': load_after[0]}))
-        print('result written to %s' % args.result)
+        print('result written to %s' % args.result, flush=True)
+
+
+if __name__ == '__main__':
+    main()

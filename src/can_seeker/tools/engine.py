@@ -34,6 +34,7 @@ from tqdm import tqdm
 
 from can_seeker.evaluation.batch import TrialLedger, write_json_atomically
 from can_seeker.evaluation.cpu_features import narrow_kernel_environment, numpy_features_to_disable
+from can_seeker.evaluation.process_cpu import TreeCpu
 from can_seeker.evaluation.trials import Criteria, TrialResult
 from can_seeker.tools.closed_loop import LaunchedSystem, TrialRunner
 
@@ -174,7 +175,11 @@ def worker_system_key() -> Optional[str]:
 class Engine:
     """A Dask client on a local cluster of ``jobs`` worker processes (one thread each), or on
     the scheduler at ``address``. A context manager: on exit the client (and a local cluster
-    with its workers and their systems) is closed."""
+    with its workers and their systems) is closed.
+
+    ``sim_s`` sums the sim time of the trials it ran; on a local cluster ``cpu_s`` is, after
+    the exit, the CPU time of this process (from its start) and of every process below it
+    (scheduler, nannies, workers, their ROS systems), from start-up to shutdown."""
 
     def __init__(self, jobs: int = 1, address: Optional[str] = None):
         self.jobs = jobs
@@ -182,8 +187,19 @@ class Engine:
         self.config = None
         self.cluster = None
         self.client = None
+        self.sim_s = 0.0
+        self.cpu_s = None
+        self._tree_cpu = None
+
+    @property
+    def real_time_per_core(self) -> Optional[float]:
+        """Sim seconds of the trials per CPU second of the whole batch (local cluster, after
+        the exit); None otherwise."""
+        return self.sim_s / self.cpu_s if self.cpu_s else None
 
     def __enter__(self):
+        if not self.address:
+            self._tree_cpu = TreeCpu()
         if self.address:
             self.client = Client(self.address)
         else:
@@ -204,6 +220,8 @@ class Engine:
             self.cluster.close()
         if self.config is not None:
             self.config.__exit__(None, None, None)
+        if self._tree_cpu is not None:
+            self.cpu_s, self._tree_cpu = self._tree_cpu.stop(), None
 
     def worker_pids(self) -> Dict[str, int]:
         """Each worker's process id by its address."""
@@ -234,6 +252,7 @@ class Engine:
                                % (index, seed + index, future.exception()), file=sys.stderr)
                 else:
                     result, criteria = future.result()
+                    self.sim_s += result.sim_s
                     on_result(result, criteria)
                     successes += result.success
                 finished += 1

@@ -362,22 +362,37 @@ def run_sweep(args, engine):
           % (title, table, args.sweep_output))
 
 
+def batch_cpu(engine):
+    """The summary's figures of the batch's whole cost: the sim time of the trials this run
+    ran, the CPU time of every process of the batch (local cluster only: None on a running
+    scheduler's workers) and their ratio, the real-time factor per core."""
+    if engine is None:
+        return {}
+    return {'batch_sim_s': engine.sim_s, 'batch_cpu_s': engine.cpu_s,
+            'real_time_factor_per_core': engine.real_time_per_core}
+
+
 def main():
     argv = rospy.myargv()[1:]
     args = parse_args(argv)
     if args.sweep:
         with Engine(args.jobs, args.cluster) as engine:
             run_sweep(args, engine)
+        if engine.real_time_per_core is not None:
+            print('%.2fx real time per core: %.1f sim s of trials per %.1f CPU s of every '
+                  'process of the sweep' % (engine.real_time_per_core, engine.sim_s,
+                                            engine.cpu_s))
         sys.exit(0)
     try:
         ledger = new_ledger(args)
     except ValueError as error:
         print('evaluate: cannot resume %s: %s' % (args.json, error), file=sys.stderr)
         sys.exit(2)
-    repeat, cpu_check, not_run, interrupted = None, None, [], False
+    repeat, cpu_check, not_run, interrupted, engine = None, None, [], False, None
     try:
         if ledger.missing():
-            with Engine(args.jobs, args.cluster) as engine:
+            engine = Engine(args.jobs, args.cluster)
+            with engine:
                 not_run = evaluate(args, engine, ledger, json_path=args.json)
                 if args.repeat_check:
                     second = TrialLedger(settings(args))
@@ -392,7 +407,7 @@ def main():
         print('evaluate: interrupted; summarising the %d finished trials'
               % len(ledger.results()), file=sys.stderr)
     results, record_settings = ledger.results(), ledger.settings
-    summary = ledger.summary()
+    summary = dict(ledger.summary(), **batch_cpu(engine))
     if record_settings.get('robot'):
         camera = 'robot %s (its camera), time limit %.0f s' % (record_settings['robot'],
                                                              record_settings['time_limit'])
@@ -414,6 +429,7 @@ def main():
     print(summary_table(summary))
     if args.json:
         record = ledger.record()
+        record['summary'].update(batch_cpu(engine))
         if repeat is not None:
             record['repeat_check'] = repeat
         if cpu_check is not None:

@@ -523,6 +523,31 @@ def blend_reach_px(width_px: int) -> int:
     return max(1, int(round(BLEND_REACH_FRACTION * width_px)))
 
 
+def _nearest_floor(padded_floor: np.ndarray, padded_colours: np.ndarray, padded_width: int,
+                   start: np.ndarray, step, reach_px: int):
+    """(found, colour): whether each pixel (``start``: its flat index in the padded image) has
+    a floor pixel 1 to ``reach_px`` steps of ``step`` (row, column) away, and the colour of the
+    nearest one. ``padded_floor`` and ``padded_colours`` (flat) have a border of ``reach_px``
+    non-floor pixels (no bounds checks); each step looks only at the pixels that found none
+    yet."""
+    stride = step[0] * padded_width + step[1]
+    found = np.zeros(start.size, bool)
+    colour = np.zeros((start.size, 3), np.float32)
+    looking = np.arange(start.size)
+    for distance in range(1, reach_px + 1):
+        index = start + distance * stride
+        hit = padded_floor[index]
+        if hit.any():
+            which = looking[hit]
+            found[which] = True
+            colour[which] = padded_colours[index[hit]]
+            keep = ~hit
+            looking, start = looking[keep], start[keep]
+            if looking.size == 0:
+                break
+    return found, colour
+
+
 def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = None,
                  tolerance: float = BLEND_TOLERANCE,
                  min_contrast: float = BLEND_MIN_CONTRAST) -> np.ndarray:
@@ -544,33 +569,37 @@ def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = N
     smooth = cv2.blur(bgr, (3, 3)).astype(np.float32)
     pixel = smooth[rows, columns]
     height, width = floor.shape
-    ends = []
-    for step_row, step_column in BLEND_DIRECTIONS:
-        found = np.zeros(rows.size, bool)
-        colour = np.zeros((rows.size, 3), np.float32)
-        for step in range(1, reach_px + 1):
-            row = rows + step * step_row
-            column = columns + step * step_column
-            inside = (row >= 0) & (row < height) & (column >= 0) & (column < width)
-            new = np.zeros(rows.size, bool)
-            new[inside] = floor[row[inside], column[inside]]
-            new &= ~found
-            colour[new] = smooth[row[new], column[new]]
-            found |= new
-        ends.append((found, colour))
+    padded_width = width + 2 * reach_px
+    padded_floor = np.zeros((height + 2 * reach_px, padded_width), bool)
+    padded_floor[reach_px:reach_px + height, reach_px:reach_px + width] = floor
+    padded_colours = cv2.copyMakeBorder(smooth, reach_px, reach_px, reach_px, reach_px,
+                                        cv2.BORDER_CONSTANT, value=0).reshape(-1, 3)
+    start = (rows + reach_px) * padded_width + (columns + reach_px)
+    ends = [_nearest_floor(padded_floor.ravel(), padded_colours, padded_width, start, step,
+                           reach_px) for step in BLEND_DIRECTIONS]
+    # Channels as rows (one contiguous array each): the per-pair arithmetic below is on them.
+    pixel = np.ascontiguousarray(pixel.T)
+    colours = [np.ascontiguousarray(colour.T) for _, colour in ends]
     undecided = np.ones(rows.size, bool)
-    for first, (found_start, start) in enumerate(ends):
-        for found_end, end in ends[first + 1:]:
-            both = undecided & found_start & found_end
-            span = end[both] - start[both]
-            offset = pixel[both] - start[both]
-            length_sq = np.einsum('ij,ij->i', span, span)
-            along = np.einsum('ij,ij->i', offset, span) / np.maximum(length_sq, 1e-6)
-            off_line = offset - along[:, None] * span
-            blend = ((np.einsum('ij,ij->i', off_line, off_line) <= tolerance * tolerance)
-                     & (length_sq >= min_contrast * min_contrast)
+    for first in range(len(ends)):
+        for second in range(first + 1, len(ends)):
+            both = np.flatnonzero(undecided & ends[first][0] & ends[second][0])
+            if both.size == 0:
+                continue
+            start = colours[first][:, both]
+            span = colours[second][:, both] - start
+            length_sq = span[0] * span[0] + span[1] * span[1] + span[2] * span[2]
+            contrasted = length_sq >= min_contrast * min_contrast
+            both, start, span = both[contrasted], start[:, contrasted], span[:, contrasted]
+            length_sq = length_sq[contrasted]
+            offset = pixel[:, both] - start
+            along = ((offset[0] * span[0] + offset[1] * span[1] + offset[2] * span[2])
+                     / np.maximum(length_sq, 1e-6))
+            off_line = offset - along * span
+            blend = ((off_line[0] * off_line[0] + off_line[1] * off_line[1]
+                      + off_line[2] * off_line[2] <= tolerance * tolerance)
                      & (along >= BLEND_MARGIN) & (along <= 1.0 - BLEND_MARGIN))
-            decided = np.nonzero(both)[0][blend]
+            decided = both[blend]
             blends[rows[decided], columns[decided]] = True
             undecided[decided] = False
     return blends
