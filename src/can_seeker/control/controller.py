@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 from can_seeker.camera_geometry import CameraPose
+from can_seeker.camera_mount import FALLBACK_MOUNT_PARAMS
 import numpy as np
 
 from can_seeker.frames import BASE_FRAME, ODOM_FRAME
@@ -40,6 +41,9 @@ from can_seeker.control.pose_history import PoseHistory, sighting_from
 from can_seeker.control.elapsed import elapsed_s
 from can_seeker.control.twist_limits import TwistLimits, limit_twist, require_finite
 from can_seeker.sim.lockstep import parse_topics
+
+FALLBACK_CAMERA_X = next(spec for spec in FALLBACK_MOUNT_PARAMS if spec.name == 'camera_x')
+"""The camera's fallback forward offset, declared once for every node (camera_mount)."""
 
 PARAMS = (
     Param('enabled', True, 'start armed: searching and driving; false starts IDLE (zero '
@@ -112,9 +116,7 @@ PARAMS = (
           'close up a label\'s lettering changes the silhouette from frame to frame)', 0.0, 1.0),
     Param('track_gate', 0.3, 'how far from the tracked can a weaker detection may place it '
           '(m; 0 = no hysteresis)', 0.0, 5.0),
-    Param('camera_x', 0.12,
-          'camera x in base_link, used only while TF has no base_link -> camera transform (m)',
-          -2.0, 2.0),
+    FALLBACK_CAMERA_X,
     Param('behaviour', 'seek',
           'seek: search, explore, approach the can and stop; wander: drive around and turn '
           'away from obstacles, no can', choices=('seek', 'wander')),
