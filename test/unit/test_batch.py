@@ -1,6 +1,7 @@
 """The trials of an evaluation collected as they finish, in any order: what is left to run (and
 to resume), the record in trial order written whole after every trial; and two runs of the same
 trials compared trial by trial."""
+import dataclasses
 import json
 import math
 import os
@@ -124,6 +125,14 @@ def test_compare_reports_differing_outcomes_and_missing_trials():
     assert comparison['outcome_differs'] == [0]
     assert comparison['unmatched'] == [1, 2]
     assert not comparison['repeatable']
+
+
+def test_compare_names_the_trials_with_lockstep_time_outs():
+    first = [result(0), result(1)]
+    second = [result(0), dataclasses.replace(result(1), lockstep_timeouts=2)]
+    comparison = compare_runs(first, second)
+    assert comparison['timed_out'] == [1]
+    assert comparison['repeatable']
 
 
 def strict_json(path):

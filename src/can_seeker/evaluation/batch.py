@@ -125,15 +125,20 @@ def compare_runs(first: Sequence[TrialResult], second: Sequence[TrialResult]) ->
     Position in mm and heading in deg of the final pose; the indices whose outcome differs or
     that only one run has; ``repeatable`` when there are none and the pose differences are
     within :data:`REPEAT_POSITION_TOLERANCE_M` and :data:`REPEAT_YAW_TOLERANCE_DEG`.
+    ``timed_out`` names the trials in which either run had lockstep time-outs: there the
+    simulator stepped on without an answer, so a difference says nothing of the code.
     """
     by_index = {result.index: result for result in second}
     position_mm, yaw_deg = [], []
     worst_position_index = worst_yaw_index = None
     differing, unmatched = [], sorted(set(by_index) ^ {result.index for result in first})
+    timed_out = []
     for result in first:
         other = by_index.get(result.index)
         if other is None:
             continue
+        if (result.lockstep_timeouts or 0) > 0 or (other.lockstep_timeouts or 0) > 0:
+            timed_out.append(result.index)
         if outcome(result) != outcome(other):
             differing.append(result.index)
         position = 1000.0 * math.hypot(result.final_x_m - other.final_x_m,
@@ -153,4 +158,4 @@ def compare_runs(first: Sequence[TrialResult], second: Sequence[TrialResult]) ->
     return {'compared': len(position_mm), 'max_position_diff_mm': max_position,
             'max_position_diff_trial': worst_position_index, 'max_yaw_diff_deg': max_yaw,
             'max_yaw_diff_trial': worst_yaw_index, 'outcome_differs': differing,
-            'unmatched': unmatched, 'repeatable': repeatable}
+            'unmatched': unmatched, 'timed_out': timed_out, 'repeatable': repeatable}

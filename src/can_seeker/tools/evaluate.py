@@ -291,11 +291,12 @@ def report_repeat(first, second, check='repeat check'):
     ``compare_runs``)."""
     comparison = compare_runs(first, second)
     print('\n%s: %d trials compared; largest final-pose difference %s mm (trial %s), '
-          '%s deg (trial %s); outcomes differ in %s; unmatched %s -> %s'
+          '%s deg (trial %s); outcomes differ in %s; unmatched %s; lockstep time-outs in %s '
+          '-> %s'
           % (check, comparison['compared'], _number(comparison['max_position_diff_mm']),
              comparison['max_position_diff_trial'], _number(comparison['max_yaw_diff_deg']),
              comparison['max_yaw_diff_trial'], comparison['outcome_differs'] or 'none',
-             comparison['unmatched'] or 'none',
+             comparison['unmatched'] or 'none', comparison['timed_out'] or 'none',
              'repeatable' if comparison['repeatable'] else 'NOT repeatable'))
     return comparison
 
