@@ -67,6 +67,15 @@ def test_a_row_per_file_with_its_figures():
     assert 'abc1234' not in table
 
 
+def test_a_cpu_features_check_in_a_result_is_shown_beside_its_figures():
+    checked = dict(EVALUATE, figures=dict(EVALUATE['figures'], cpu_features_check={
+        'outcome_differs': [], 'max_position_diff_mm': 0.0072, 'max_yaw_diff_deg': 0.0001}))
+    text = 'without wide SIMD kernels: same outcomes, 0.0072 mm, 0.0001 deg'
+    assert text in readme_table([('a.json', checked)])
+    assert text in results_markdown([('a.json', checked)])
+    assert 'SIMD' not in readme_table([('a.json', EVALUATE)])
+
+
 def test_the_readme_table_goes_between_the_markers_only():
     readme = 'intro\n%s\nold table\n%s\nrest\n' % (README_BEGIN, README_END)
     assert with_readme_table(readme, 'T') == 'intro\n%s\nT\n%s\nrest\n' % (README_BEGIN,

@@ -120,7 +120,25 @@ def _evaluate_cells(figures: dict) -> List[str]:
             _pair(figures, 'time_to_stop_median_s', 'time_to_stop_max_s', 1.0, 1, ' s'),
             _number(figures.get('path_length_median_m'), digits=2),
             '' if hidden is None else '%d (%s)' % (hidden, '' if found is None else found),
-            '' if timeouts is None else str(timeouts)]
+            '' if timeouts is None else str(timeouts), check_text(figures)]
+
+
+CHECKS = (('repeat_check', 'the same'), ('cpu_features_check', 'without wide SIMD kernels'))
+"""The second runs evaluate can make of the same trials, and how a table names each."""
+
+
+def check_text(figures: dict) -> str:
+    """The repeat and CPU-features checks a result holds, in words (empty: none ran)."""
+    texts = []
+    for key, label in CHECKS:
+        check = figures.get(key)
+        if check:
+            texts.append('%s: %s, %s mm, %s deg' % (
+                label, 'same outcomes' if not check.get('outcome_differs') else
+                'outcomes differ in %s' % check['outcome_differs'],
+                _number(check.get('max_position_diff_mm'), digits=4),
+                _number(check.get('max_yaw_diff_deg'), digits=4)))
+    return '; '.join(texts)
 
 
 def _bench_loop_cells(figures: dict) -> List[str]:
@@ -139,7 +157,8 @@ def _bench_node_cells(figures: dict) -> List[str]:
 KIND_TABLES: Dict[str, Tuple[Tuple[str, ...], Callable[[dict], List[str]]]] = {
     'evaluate': (('success', 'contacts', 'gap error mean / max', 'bearing mean / max',
                   'time to stop median / max (sim)', 'path median (m)',
-                  'can out of view at start (found)', 'lockstep time-outs'), _evaluate_cells),
+                  'can out of view at start (found)', 'lockstep time-outs',
+                  'run again (check: largest pose difference)'), _evaluate_cells),
     'bench_loop': (('success', 'CPU ms per sim s', 'x real time per core',
                     'CPU ms per sim s by process'), _bench_loop_cells),
     'bench_node': (('CPU ms per frame by node',), _bench_node_cells),
@@ -204,7 +223,9 @@ def headline(record: dict) -> str:
         text = '%s/%s, %s contacts' % (figures.get('successes'), figures.get('trials'),
                                        figures.get('contacts'))
         times = _pair(figures, 'time_to_stop_median_s', 'time_to_stop_max_s', unit=' s')
-        return text + (', %s median / max time to stop' % times if times else '')
+        checks = check_text(figures)
+        return (text + (', %s median / max time to stop' % times if times else '')
+                + ('; run again %s' % checks if checks else ''))
     if record['kind'] == 'bench_loop':
         return '%sx real time per core (%s CPU ms per sim s)' % (
             _number(figures.get('real_time_per_core'), digits=2),

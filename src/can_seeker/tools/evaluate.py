@@ -442,8 +442,12 @@ def main():
             print('evaluate: not every trial ran; no result written to %s' % args.result,
                   file=sys.stderr)
         else:
+            figures = dict(summary)
+            for name, comparison in (('repeat_check', repeat), ('cpu_features_check', cpu_check)):
+                if comparison is not None:
+                    figures[name] = comparison
             write_result(args.result, result_record('evaluate', command_line('evaluate', argv),
-                                                    json_ready(summary)))
+                                                    json_ready(figures)))
             print('result written to %s' % args.result)
     if interrupted:
         sys.exit(130)
