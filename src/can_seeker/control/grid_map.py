@@ -1,43 +1,17 @@
 """What the robot has learnt about the floor, on a coarse grid in the odom frame.
 
-Two layers over the same square cells:
-
-- obstacle evidence from range scans (a hit adds four times what a ray passing through
-  subtracts, both clamped), so obstacles stay known while they are out of the sensor's view
-  (beside or behind the robot, or in the blind zone nearer than its range_min) or a few frames
-  of a scan miss them (a camera sees a tall obstacle's silhouette lean past its base), and a
-  moved object is cleared by the rays that keep passing through its old place. Each obstacle
-  cell also counts how long scans have had it in their blind zone (nearer than range_min to
-  the sensor, along a ray or beside the view) since one last hit it: there no ray can confirm
-  or clear it, and no turn of the robot brings it into view, so a phantom there can be told
-  apart only by that time. A scan that reports an obstacle right at its range_min (a camera
-  whose image's bottom edge cuts an obstacle: it is at most that far) keeps the remembered
-  obstacle cells along that ray nearer than range_min: it still sees something there, so they
-  are no phantom to drop;
-- contacts: cells where the robot's bumper touched something (:meth:`GridMap.add_contact`).
-  A contact is an obstacle no scan may clear or forget (the sensors did not see it, so their
-  free rays through its place prove nothing) until the map is cleared;
-- coverage: the floor the camera has looked at, up to the range at which it would have found
-  the can, stopping at obstacles. Exploration drives to where it has not looked yet;
-- observed, on cells of half the size: the floor some scan ray has reached (free or hit), the
-  robot's body has covered, or the robot started on. The rest is unknown: a camera looking
-  ahead never saw what stands beside the robot, and a cell the rays call free may hold the
-  corner of an obstacle seen edge-on, so the safety layer treats unknown floor near the robot
-  as an obstacle. Half-size cells keep that corner's cell unknown where the coarse cell
-  around it was partly seen free. Each coarse cell also counts how long it has been within a
-  scan's blind disc (nearer than range_min to the sensor, any bearing): from there no turn of
-  the robot can observe it.
+Layers over the same square cells: obstacle evidence from range scans (a hit adds four times
+what a ray passing through subtracts, both clamped), with how long each obstacle cell has been
+in a scan's blind zone since one last hit it; contacts where a bumper touched something (never
+cleared by scans, only by :meth:`GridMap.clear`); coverage, the floor the camera has looked at;
+and, on cells of half the size, the floor some ray, the robot's body or its start observed, the
+rest being unknown floor the safety layer keeps off. Each coarse cell also counts how long it
+has been within a scan's blind disc, from where no turn can observe it.
 
 Arrays are indexed ``[ix, iy]``; cell (ix, iy) spans ``origin + (ix, iy) * resolution`` to one
-resolution further. Odom positions outside the grid are ignored.
-
-Every discrete decision (the cell a point is in, the samples along a ray, which of them lie
-along its free part, what lies within a radius) is taken on positions snapped to whole
-micrometres (:mod:`can_seeker.lattice`), in integer arithmetic or in floats computed
-from those integers by + - * / sqrt alone, so the same scan marks the same cells on every CPU:
-a point meant to lie on a cell boundary lies exactly on it, whatever the last bit of the sin
-or cos that placed it. The resolution is taken to the nearest multiple of 4 um, so each cell
-and each ray step is a whole number of micrometres.
+resolution further. Odom positions outside the grid are ignored. Every discrete decision is
+taken on positions snapped to whole micrometres (:mod:`can_seeker.lattice`), so the same scan
+marks the same cells on every CPU. Design and reasons: docs/design/controller-and-safety.md.
 """
 import math
 from typing import Dict, Optional, Tuple

@@ -1,38 +1,15 @@
-"""evaluate: N closed-loop trials of the real nodes (sim, image_converter, can_stopper) under
-their own master, judged on the simulator's ground truth.
+"""evaluate: N closed-loop trials of the real nodes (sim, image_converter, obstacle_scan,
+can_stopper) under their own master, judged on the simulator's ground truth.
 
-The nodes start once per worker process (``demo.launch`` on a free port); between trials the sim
-and the controller are reset through their services. Each trial rebuilds the world from its seed
-(trial i uses seed + i, so ``--seed S+i --trials 1`` repeats it): in the empty world the can
-stands at a random bearing and distance, in a room (``--world room``) the obstacles and the can
-are drawn anew, in a world file the can is drawn unless the file places it; with
-``--randomize-appearance`` the floor, wall and obstacle colours are drawn from the seed too,
-with ``--randomize-mount`` the camera's height (0.15-0.35 m) and pitch (15-35 deg).
-``--scan-topics "/camera_scan /scan"`` lets can_stopper fuse the camera scan and the lidar.
-``--robot NAME`` runs the trials with a robot profile (config/robots/NAME.yaml or a path): the
-simulator builds that robot, the nodes get its parameters, the judge measures the gap from its
-``robot_radius``, and unless ``--time-limit`` is given a robot slower than 0.4 m/s gets the time
-limit scaled by 0.4 m/s over its max_linear_mps (90 s x 0.4 / 0.22 = 164 s for a Burger).
-Prints a progress bar, then a summary table; ``--json FILE`` writes every trial and the summary,
-again after each finished trial, and ``--resume`` runs only the trials that file is missing.
-``--result FILE`` writes the summary as a result file for docs/results/ (the command, the code's
-commit, the machine; see :mod:`can_seeker.evaluation.result_files`) once every trial has run.
-Exits 1 when a trial failed.
-
-Scale out (``can_seeker.tools.engine``): every trial is a Dask task; ``--jobs N`` runs them on a
-local cluster of N worker processes, ``--cluster ADDRESS`` on a running Dask scheduler's
-workers; each worker process has a ROS system of its own (its own master on its own port). The
-results do not depend on how many workers ran them. ``--repeat-check`` runs the trials twice
-and reports the largest per-trial difference (final pose, outcome); ``--cpu-features-check``
-runs them again with every node started without numpy's wide SIMD (AVX-512) kernels and reports
-the same, so a result that hangs on the CPU's last bits shows.
-
-Real senses: ``--realism realistic`` (or ``harsh``) gives the simulator a noisy, late camera,
-drifting wheel odometry and imperfect motors; ``--param NODE/PARAM=VALUE`` sets any node
-parameter (e.g. one realism knob); ``--sweep NODE/PARAM=v1,v2,...`` (repeatable: a grid) runs
-the same seeds for every setting and writes a table, a JSON record and a PNG plot of success,
-true gap error, time to stop and contacts against the setting to ``--sweep-output``. The judge
-is always the simulator's ground truth, never the robot's odometry.
+The nodes start once per worker process (``demo.launch`` on a free port); trial i rebuilds the
+world of seed S+i and starts atomically through the simulator's and the controller's reset
+services. Options choose the world (``--world``, ``--randomize-appearance``,
+``--randomize-mount``, ``--robot``), the senses (``--realism``, ``--scan-topics``), any node
+parameter (``--param``), a sweep over settings (``--sweep``), where the trials run (``--jobs``,
+``--cluster``: every trial a Dask task, each worker with a ROS system of its own), second runs
+that compare final poses (``--repeat-check``, ``--cpu-features-check``), and the records
+(``--json`` after every trial, ``--resume``, ``--result`` for docs/results/). Prints a summary
+table; exits 1 when a trial failed. All options: docs/tools.md.
 """
 import argparse
 import json
