@@ -1,6 +1,6 @@
 """The package layout: pure subpackages never import ROS (the ROS edge is ``ros/``, used by the
 nodes and tools), no node imports another node, the simulator does not import the controller,
-and every folder is an installable package."""
+every folder is an installable package, and module docstrings stay short."""
 import ast
 import pathlib
 
@@ -58,3 +58,16 @@ def test_no_node_imports_another_node():
 def test_the_simulator_does_not_import_the_controller():
     assert subpackage_imports('sim', 'can_seeker.control') == {}
 
+
+
+MAX_MODULE_DOCSTRING_LINES = 30
+"""A module docstring states the contract; the design and its reasons live in docs/design/."""
+
+
+def test_module_docstrings_state_a_contract_not_a_design_note():
+    long = {}
+    for path in sorted(PACKAGE.rglob('*.py')):
+        docstring = ast.get_docstring(ast.parse(path.read_text(), str(path)), clean=False)
+        if docstring and docstring.count('\n') + 1 > MAX_MODULE_DOCSTRING_LINES:
+            long[str(path.relative_to(PACKAGE))] = docstring.count('\n') + 1
+    assert long == {}
