@@ -18,7 +18,7 @@ import numpy as np
 import rospy
 import tf2_ros
 from dynamic_reconfigure.server import Server
-from sensor_msgs.msg import CameraInfo, CompressedImage, Image
+from sensor_msgs.msg import CameraInfo, Image
 
 from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import intrinsics_from_camera_info
@@ -30,18 +30,17 @@ from can_seeker.msg import CanDetection
 from can_seeker.params import read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.ros.diagnostics import image_diagnostics
-from can_seeker.ros.messages import IMAGE_BUFF_SIZE, detection_msg, image_msg
+from can_seeker.ros.messages import detection_msg, image_msg
 from can_seeker.vision.report import PARAMS as REPORT_PARAMS
 from can_seeker.vision.report import CanModel, can_report, fallback_pose
-from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, MESSAGE_DECODERS,
-                                            DecodedImage, ImageDecodeError, NoColourError,
-                                            transport_topic)
+from can_seeker.ros.image_input import image_decoder, subscribe_images
+from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
+                                            NoColourError)
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                         draw_annotation)
 
 PARAMS = REPORT_PARAMS + (IMAGE_TRANSPORT_PARAM,)
-IMAGE_MESSAGES = {'raw': Image, 'compressed': CompressedImage}
 ERROR_PERIOD_S = 5.0
 OPENCV_THREADS = 1
 """OpenCV worker threads: one frame's passes are too short to share (tens of microseconds at
@@ -102,18 +101,10 @@ class ImageConverterNode:
         self.diagnostics, self.image_monitor, self.info_monitor = image_diagnostics(
             self.outcomes)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
-        self.subscribe_images(self.config.image_transport)
+        self.decode = image_decoder(self.config.image_transport)
+        subscribe_images('image_converter', self.config.image_transport, self.on_image)
         self.diagnostics.start()
 
-    def subscribe_images(self, transport):
-        """Subscribe ``image`` (or its ``transport`` topic) and pick the matching decoder."""
-        message_class = IMAGE_MESSAGES[transport]
-        self.decode = MESSAGE_DECODERS[message_class._type]
-        topic = transport_topic(rospy.resolve_name('image'), transport)
-        if transport != 'raw':
-            rospy.loginfo('image_converter: reading %s images from %s' % (transport, topic))
-        rospy.Subscriber(topic, message_class, self.on_image, queue_size=1,
-                         buff_size=IMAGE_BUFF_SIZE, tcp_nodelay=True)
 
     def _make_display(self, show):
         """Image windows when ~show is true and a window can be opened; else None (headless)."""

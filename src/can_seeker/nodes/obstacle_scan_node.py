@@ -19,7 +19,7 @@ import time
 
 import rospy
 import tf2_ros
-from sensor_msgs.msg import CameraInfo, CompressedImage, Image, LaserScan
+from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.allocator import reuse_freed_memory
@@ -29,18 +29,17 @@ from can_seeker.health import ERROR, OK, Outcomes
 from can_seeker.params import read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.ros.diagnostics import image_diagnostics
-from can_seeker.ros.messages import IMAGE_BUFF_SIZE, image_msg, laser_scan
+from can_seeker.ros.messages import image_msg, laser_scan
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
-from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, MESSAGE_DECODERS,
-                                            DecodedImage, ImageDecodeError, NoColourError,
-                                            transport_topic)
+from can_seeker.ros.image_input import image_decoder, subscribe_images
+from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
+                                            NoColourError)
 from can_seeker.vision.report import fallback_pose
 
 PARAMS = (FLOOR_PARAMS + SCAN_PARAMS + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_PARAMS
           + (IMAGE_TRANSPORT_PARAM,))
-IMAGE_MESSAGES = {'raw': Image, 'compressed': CompressedImage}
 
 ERROR_PERIOD_S = 5.0
 
@@ -71,18 +70,10 @@ class ObstacleScanNode:
             self.outcomes)
         rospy.Service('~reset', Empty, self.on_reset)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
-        self.subscribe_images(self.config.image_transport)
+        self.decode = image_decoder(self.config.image_transport)
+        subscribe_images('obstacle_scan', self.config.image_transport, self.on_image)
         self.diagnostics.start()
 
-    def subscribe_images(self, transport):
-        """Subscribe ``image`` (or its ``transport`` topic) and pick the matching decoder."""
-        message_class = IMAGE_MESSAGES[transport]
-        self.decode = MESSAGE_DECODERS[message_class._type]
-        topic = transport_topic(rospy.resolve_name('image'), transport)
-        if transport != 'raw':
-            rospy.loginfo('obstacle_scan: reading %s images from %s' % (transport, topic))
-        rospy.Subscriber(topic, message_class, self.on_image, queue_size=1,
-                         buff_size=IMAGE_BUFF_SIZE, tcp_nodelay=True)
 
     def on_reset(self, _request):
         with self.scanner_lock:
