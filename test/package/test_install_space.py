@@ -11,7 +11,6 @@ import json
 import os
 import pathlib
 import shutil
-import signal
 import socket
 import subprocess
 import sys
@@ -19,6 +18,8 @@ import tempfile
 import time
 
 import pytest
+
+from launch_process import stop_launch
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 PACKAGE = 'can_seeker'
@@ -228,12 +229,7 @@ def test_demo_launch_finds_the_can_and_stops_in_front_of_it(install_space, tmp_p
                                   ROS_MASTER_URI=master)
         assert probe.returncode == 0, probe.stdout
     finally:
-        os.killpg(launch.pid, signal.SIGINT)
-        try:
-            launch.wait(30)
-        except subprocess.TimeoutExpired:
-            os.killpg(launch.pid, signal.SIGKILL)
-            launch.wait()
+        stop_launch(launch)
         launch_log.close()
     report = json.loads(report_path.read_text())
     assert report['detections_found'] > 0, report

@@ -5,12 +5,13 @@ state, the can moved, evaluate's trials passed)."""
 import os
 import pathlib
 import re
-import signal
 import socket
 import subprocess
 import time
 
 import pytest
+
+from launch_process import stop_launch
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 STATES = ('SEARCH', 'EXPLORE', 'APPROACH', 'STOPPED', 'LOST', 'WANDER')
@@ -90,11 +91,6 @@ def test_every_quick_start_command_runs_as_written(tmp_path):
             expect(command, result.stdout)
             assert launch.poll() is None, 'the launch ended during: ' + command
     finally:
-        os.killpg(launch.pid, signal.SIGINT)
-        try:
-            launch.wait(30)
-        except subprocess.TimeoutExpired:
-            os.killpg(launch.pid, signal.SIGKILL)
-            launch.wait()
+        stop_launch(launch)
         launch_log.close()
 
