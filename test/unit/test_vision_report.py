@@ -54,8 +54,10 @@ def test_found_report_uses_the_floor_ray():
     report = can_report([BLOB], 320, 240, fallback_pose(0.25, 25.0), INTRINSICS, CAN)
     assert report.found and report.range_method == 'floor'
     assert report.bbox == (150, 100, 20, 40)
-    # Bottom edge at row 139.5, 20 px below the centre row: the floor ray is 25 + 3.94 deg down.
-    forward_m = 0.25 / math.tan(math.radians(25.0) + math.atan(20.0 / INTRINSICS.fy))
+    # Bottom edge at row 139.5, 20 px below the centre row: the ray 25 + 3.94 deg down meets
+    # the can where its colour begins, CAN.colour_bottom_m above the floor.
+    forward_m = ((0.25 - CAN.colour_bottom_m)
+                 / math.tan(math.radians(25.0) + math.atan(20.0 / INTRINSICS.fy)))
     assert report.range_m == pytest.approx(forward_m, abs=1e-6)
     assert report.bearing_rad == pytest.approx(0.0, abs=1e-9)
 
@@ -80,7 +82,7 @@ def can_blob_at(range_m, scale=1.0, pose=None, shape_score=1.0):
     pose = pose or fallback_pose(0.25, 25.0)
     width_px, height_px = can_image_box(pose, INTRINSICS, range_m, 0.0, 0.066, 0.122)
     # The near bottom row of a can at that range, found by the floor ray.
-    bottom = min(range(20, 240), key=lambda row: abs(can_report(
+    bottom = min(range(11, 240), key=lambda row: abs(can_report(
         [Blob(159.5, row - 5.0, 100.0, 150, row - 10, 20, 10)], 320, 240, pose, INTRINSICS,
         CAN).range_m - range_m))
     width, height = round(width_px * scale), round(height_px * scale)

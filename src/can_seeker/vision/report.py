@@ -41,6 +41,10 @@ PARAMS = DETECTOR_PARAMS + (BASE_FRAME,) + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_P
     Param('can_diameter', 0.066, 'diameter of the can, for the near surface, the width '
           'fallback range and the size check (m)', 0.001, 1.0),
     Param('can_height', 0.122, 'height of the can, for the size check (m)', 0.001, 2.0),
+    Param('can_colour_bottom', 0.005, 'height above the floor where the can\'s colour begins '
+          '(a soda can\'s unprinted base, about 5 mm): the floor range\'s ray through the '
+          'blob\'s lower edge meets the can there; 0 for a can coloured to the floor (m)',
+          0.0, 0.5),
     Param('size_tolerance', 0.3, 'size check: confidence is kept while the blob\'s width and '
           'height are within this fraction of the can\'s at its floor range, and falls to 0 at '
           'twice it (1)', 0.01, 5.0),
@@ -67,11 +71,14 @@ class CanModel:
     diameter_m: float = 0.066
     height_m: float = 0.122
     size_tolerance: float = 0.3
+    colour_bottom_m: float = 0.005
 
     @classmethod
     def from_values(cls, values):
-        """From an object with can_diameter, can_height and size_tolerance (the node's PARAMS)."""
-        return cls(values.can_diameter, values.can_height, values.size_tolerance)
+        """From an object with can_diameter, can_height, size_tolerance and can_colour_bottom
+        (the node's PARAMS)."""
+        return cls(values.can_diameter, values.can_height, values.size_tolerance,
+                   values.can_colour_bottom)
 
 
 @dataclass(frozen=True)
@@ -162,7 +169,7 @@ def _measure(blob: Blob, pose, intrinsics, can: CanModel):
     range_m, bearing, method = can_range_bearing(
         pose, intrinsics, (blob.centroid_x, blob.centroid_y),
         (blob.x, blob.y, blob.width, blob.height), can.diameter_m,
-        None if blob.contour is None else blob.contour.reshape(-1, 2))
+        None if blob.contour is None else blob.contour.reshape(-1, 2), can.colour_bottom_m)
     confidence = (_shape(blob, pose, intrinsics, range_m, bearing, method, can)
                   * geometry_score(blob, pose, intrinsics, range_m, bearing, method, can))
     return confidence, (range_m, bearing, method)
