@@ -240,6 +240,18 @@ def test_knobs_override_the_preset_and_minus_one_keeps_it():
     assert spec_from_config(config) == PRESETS['ideal']
 
 
+def test_barrel_distortion_is_a_negative_k1_that_overrides_the_preset():
+    """k1 < 0 is barrel distortion (a wide-angle webcam): a real value, not "keep the
+    preset", which only -1 itself means for the lens knobs."""
+    spec = realism_spec('realistic', {'camera_k1': -0.25, 'camera_k2': 0.06,
+                                      'camera_read_noise': -0.5})
+    assert (spec.camera_k1, spec.camera_k2) == (-0.25, 0.06)
+    assert spec.camera_read_noise == PRESETS['realistic'].camera_read_noise
+    kept = realism_spec('realistic', {'camera_k1': -1.0, 'camera_k2': -1.0})
+    assert (kept.camera_k1, kept.camera_k2) == (PRESETS['realistic'].camera_k1,
+                                               PRESETS['realistic'].camera_k2)
+
+
 def test_presets_grow_harsher():
     for name in ('camera_read_noise', 'camera_latency_s', 'camera_drop_rate', 'odom_wheel_scale',
                  'cmd_latency_s', 'scan_noise_m'):

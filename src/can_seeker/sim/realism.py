@@ -140,23 +140,34 @@ _KNOB_DOCS = {
     'scan_dropout': ('fraction of lidar beams that return nothing (NaN, REP-117)', 1.0),
 }
 
+KEEP_PRESET = -1.0
+"""A knob's parameter at this value keeps the ~realism preset's value."""
+SIGNED_KNOBS = frozenset(('camera_k1', 'camera_k2'))
+"""Knobs whose negative values mean something (barrel distortion): only KEEP_PRESET itself
+keeps the preset, and they range over (-1, 1]; any other knob below 0 keeps the preset."""
+
 REALISM_PARAMS = (
     Param('realism', 'ideal', 'sensor and actuator realism preset: ideal (perfect camera, '
           'odometry and motors), realistic (a small base with a webcam) or harsh; each '
           'camera_/light_/odom_/cmd_/motor_/scan_ knob below overrides it',
           choices=REALISM_PRESETS),
 ) + tuple(
-    Param(knob.name, -1.0 if knob.type is float else -1,
+    Param(knob.name, KEEP_PRESET if knob.type is float else int(KEEP_PRESET),
           '%s; -1: the ~realism preset\'s value' % _KNOB_DOCS[knob.name][0],
-          -1.0, _KNOB_DOCS[knob.name][1])
+          KEEP_PRESET, _KNOB_DOCS[knob.name][1])
     for knob in fields(RealismSpec))
 
 
+def _overrides(value, name: str) -> bool:
+    return value != KEEP_PRESET if name in SIGNED_KNOBS else value >= 0
+
+
 def realism_spec(preset: str, overrides: Optional[dict] = None) -> RealismSpec:
-    """The preset's knobs with every override of 0 or more put in (a negative one keeps the
-    preset's value)."""
+    """The preset's knobs with every override put in: 0 or more, or for SIGNED_KNOBS anything
+    but KEEP_PRESET (a negative one, or KEEP_PRESET, keeps the preset's value)."""
     spec = PRESETS[preset]
-    chosen = {name: value for name, value in (overrides or {}).items() if value >= 0}
+    chosen = {name: value for name, value in (overrides or {}).items()
+              if _overrides(value, name)}
     return replace(spec, **chosen)
 
 
