@@ -39,3 +39,14 @@ def test_time_before_the_start_does_not_count_unless_asked():
         pass
     assert TreeCpu(interval_s=0.05, include_root_past=False).stop() < 0.2
     assert TreeCpu(interval_s=0.05).stop() >= 0.3
+
+
+def test_a_reading_on_the_way_counts_what_ran_so_far():
+    """A sweep's per-setting cost is the difference of two readings of one meter."""
+    meter = TreeCpu(interval_s=0.05, include_root_past=False)
+    subprocess.run(burn(0.3), check=True)
+    first_s = meter.read()
+    subprocess.run(burn(0.3), check=True)
+    total_s = meter.stop()
+    assert 0.25 < first_s < 1.0
+    assert 0.25 < total_s - first_s < 1.0

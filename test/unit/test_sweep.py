@@ -28,19 +28,21 @@ def test_a_grid_is_every_combination_first_sweep_slowest():
         parse_sweep('sim/a=1,,2')
 
 
-def summary(successes, gap_m, contacts):
+def summary(successes, gap_m, contacts, cpu_s=None):
     return {'trials': 10, 'success_rate': successes / 10.0, 'gap_error_mean_m': gap_m,
-            'gap_error_max_m': gap_m, 'time_to_stop_median_s': 8.0, 'contacts': contacts}
+            'gap_error_max_m': gap_m, 'time_to_stop_median_s': 8.0, 'contacts': contacts,
+            'setting_cpu_s': cpu_s,
+            'setting_real_time_per_core': None if cpu_s is None else 120.0 / cpu_s}
 
 
 def test_table_and_plot_show_every_setting(tmp_path):
-    rows = [({'/sim/noise': '0'}, summary(10, 0.004, 0)),
+    rows = [({'/sim/noise': '0'}, summary(10, 0.004, 0, cpu_s=150.0)),
             ({'/sim/noise': '8'}, summary(7, None, 2))]
     table = sweep_table(rows)
     lines = table.splitlines()
     assert lines[0].startswith('| `/sim/noise` | trials | success |')
-    assert lines[2] == '| 0 | 10 | 100% | 4.0 | 4.0 | 8.0 | 0 |'
-    assert lines[3] == '| 8 | 10 | 70% | n/a | n/a | 8.0 | 2 |'
+    assert lines[2] == '| 0 | 10 | 100% | 4.0 | 4.0 | 8.0 | 0 | 150 | 0.80 |'
+    assert lines[3] == '| 8 | 10 | 70% | n/a | n/a | 8.0 | 2 | n/a | n/a |'
     path = tmp_path / 'sweep.png'
     plot_sweep(rows, str(path), 'title')
     assert path.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n' and path.stat().st_size > 5000

@@ -89,6 +89,10 @@ class TreeCpu:
         """Stop sampling; the CPU seconds of the tree since the start."""
         self._stop.set()
         self._thread.join()
+        return self.read()
+
+    def read(self) -> float:
+        """The CPU seconds of the tree since the start, sampled now (sampling goes on)."""
         self._sample()
         sampled_s = sum(cpu_s - self._at_start.get(key, 0.0) for key, cpu_s in self._last.items())
         root_keys = [key for key in self._last if key[0] == self.root_pid]

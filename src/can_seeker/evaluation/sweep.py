@@ -54,7 +54,9 @@ ROW_FIELDS = (('success', 'success_rate', 100.0, '%.0f%%'),
               ('mean gap error (mm)', 'gap_error_mean_m', 1000.0, '%.1f'),
               ('max gap error (mm)', 'gap_error_max_m', 1000.0, '%.1f'),
               ('median time to stop (s)', 'time_to_stop_median_s', 1.0, '%.1f'),
-              ('trials with contact', 'contacts', 1.0, '%d'))
+              ('trials with contact', 'contacts', 1.0, '%d'),
+              ('CPU s', 'setting_cpu_s', 1.0, '%.0f'),
+              ('x real time per core', 'setting_real_time_per_core', 1.0, '%.2f'))
 
 
 def sweep_table(rows: Sequence[Tuple[Setting, dict]]) -> str:

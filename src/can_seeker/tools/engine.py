@@ -197,6 +197,11 @@ class Engine:
         the exit); None otherwise."""
         return self.sim_s / self.cpu_s if self.cpu_s else None
 
+    def cpu_so_far(self) -> Optional[float]:
+        """CPU seconds of every process of the batch since the start, now (local cluster
+        inside the context only; None otherwise)."""
+        return None if self._tree_cpu is None else self._tree_cpu.read()
+
     def __enter__(self):
         if not self.address:
             self._tree_cpu = TreeCpu()

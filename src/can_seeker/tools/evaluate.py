@@ -322,8 +322,11 @@ def run_sweep(args, engine):
         args.param = base_params + sorted(setting.items())
         print('evaluate: sweep setting %s' % setting_label(setting), file=sys.stderr)
         ledger = TrialLedger(settings(args))
+        cpu_before_s, sim_before_s = engine.cpu_so_far(), engine.sim_s
         evaluate(args, engine, ledger)
         record = ledger.record()
+        record['summary'].update(setting_cost(cpu_before_s, engine.cpu_so_far(),
+                                              engine.sim_s - sim_before_s))
         rows.append((setting, record['summary']))
         records.append(dict(record, setting=setting))
     args.param = base_params
@@ -338,6 +341,17 @@ def run_sweep(args, engine):
     plot_sweep(rows, os.path.join(args.sweep_output, 'sweep.png'), title)
     print('\nevaluate sweep: %s\n%s\nwritten to %s (sweep.md, sweep.json, sweep.png)'
           % (title, table, args.sweep_output))
+
+
+def setting_cost(cpu_before_s, cpu_after_s, sim_s):
+    """A sweep setting's figures of what it cost: the CPU time of every process of the batch
+    while it ran (its systems' start-up included) and its real-time factor per core; None
+    where the batch's CPU is not measured (a running scheduler's workers)."""
+    if cpu_before_s is None or cpu_after_s is None:
+        return {'setting_cpu_s': None, 'setting_real_time_per_core': None}
+    cpu_s = cpu_after_s - cpu_before_s
+    return {'setting_cpu_s': cpu_s,
+            'setting_real_time_per_core': sim_s / cpu_s if cpu_s > 0 else None}
 
 
 def batch_cpu(engine):
