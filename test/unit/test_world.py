@@ -8,7 +8,7 @@ import pytest
 from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import CameraMount
 from can_seeker.sim.drive import TwistLimiter
-from can_seeker.sim.scene import Scene, empty_bounds
+from can_seeker.sim.scene import Scene, Solid, empty_bounds
 from can_seeker.sim.world import (CAN_HEIGHT_M, CameraSpec, World, checker_image,
                                   rgba_to_image)
 
@@ -265,3 +265,46 @@ def test_a_new_mount_moves_the_camera_and_its_images(world):
         assert abs(v - project((0.9, 0.2, CAN_HEIGHT_M / 2.0), default)[1]) > 5.0
     finally:
         world.set_mount(default.mount)
+
+
+GLASS = Solid('glass', 'box', 0.875, 0.0, 0.05, 1.2, 0.4, rgba=(0.8, 0.9, 0.9, 0.0))
+"""A pane of alpha 0 across the robot's way 0.69 m ahead of its front."""
+
+
+def frames_along(world, xs_m):
+    """Three frames in a row from each robot x (m) of ``xs_m`` on the x axis."""
+    frames = []
+    for x_m in xs_m:
+        world.reset_robot(x_m)
+        world.step()
+        frames.extend(world.render('bgr8') for _ in range(3))
+    return frames
+
+
+@pytest.mark.parametrize('renderer', ['tiny', 'egl'])
+def test_a_solid_of_alpha_0_is_in_no_image_but_stops_the_robot(renderer):
+    """No pixel of any frame shows the pane, its shadow neither (the EGL renderer draws a
+    transparent body's shadow from the second frame on), yet the robot drives into it. One
+    world at a time: with two EGL worlds open in one process, neither image showed the
+    shadow."""
+    xs_m = (0.0, 0.3, 0.45, 0.55)
+    try:
+        world = World(URDF, CAMERA, renderer=renderer,
+                      scene=Scene(empty_bounds(), obstacles=(GLASS,), can_xy=(-5.0, 5.0)))
+    except RuntimeError:
+        pytest.skip('no EGL renderer here')
+    with world:
+        with_pane = frames_along(world, xs_m)
+        world.reset_robot()
+        limiter = TwistLimiter(1.0, 4.0)
+        touches = []
+        for _ in range(5 * 240):
+            world.set_twist(*limiter.step(0.2, 0.0, world.dt_s))
+            world.step()
+            touches.append(world.touches())
+        assert any(names == {'glass'} and front for names, front in touches)
+        assert world.robot_state().position[0] == pytest.approx(0.85 - 0.165, abs=0.01)
+    with World(URDF, CAMERA, renderer=renderer,
+               scene=Scene(empty_bounds(), can_xy=(-5.0, 5.0))) as without:
+        alone = frames_along(without, xs_m)
+    assert all(np.array_equal(*pair) for pair in zip(with_pane, alone))

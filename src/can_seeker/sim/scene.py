@@ -395,7 +395,8 @@ def scene_from_dict(data: dict, floor_rgba: Optional[RGBA] = None, wall_rgba: RG
     ``{from: [x, y], to: [x, y], thickness}``), ``can: {x, y}``, ``bounds: [x_min, x_max, y_min,
     y_max]`` (default: the box around the walls, or the empty floor), ``floor_rgba``,
     ``floor_checker_rgba`` (with ``floor_rgba``: a checker floor), ``wall_rgba``,
-    ``obstacle_rgba``.
+    ``obstacle_rgba``. A solid of alpha 0 is solid but invisible: no camera image shows it
+    or its shadow.
     """
     if not isinstance(data, dict):
         raise ValueError('a world is a mapping, got %r' % (data,))

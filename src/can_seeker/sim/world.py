@@ -47,6 +47,10 @@ SEGMENTATION_BODY_MASK = (1 << 24) - 1
 when link masks are asked for; they are not)."""
 CLIP_NEAR_M = 0.02
 CLIP_FAR_M = 30.0
+INVISIBLE_VISUAL_RADIUS_M = 1e-4
+"""A solid of alpha 0 is drawn as a sphere this small at its centre (m): no renderer shows
+it and it casts no shadow. Its own shape at alpha 0 would still cast one under the EGL
+renderer, and a body without a visual shape is drawn as its collision shape."""
 CONTACT_TOLERANCE_M = 0.001
 """Contact points farther apart than this (m) are a near miss, not a touch."""
 
@@ -257,19 +261,25 @@ class World:
         return self._floor_meshes[key]
 
     def _create_solid(self, solid: Solid, rgba: Sequence[float]) -> int:
-        """A static box or cylinder standing on the floor."""
+        """A static box or cylinder standing on the floor; one of alpha 0 is invisible (see
+        INVISIBLE_VISUAL_RADIUS_M)."""
         client = self._client
+        colour = list(rgba)
         if solid.shape == 'cylinder':
             radius = solid.size_x_m / 2.0
             collision = client.createCollisionShape(pybullet.GEOM_CYLINDER, radius=radius,
                                                     height=solid.height_m)
-            visual = client.createVisualShape(pybullet.GEOM_CYLINDER, radius=radius,
-                                              length=solid.height_m, rgbaColor=list(rgba))
+            visual_shape = dict(shapeType=pybullet.GEOM_CYLINDER, radius=radius,
+                                length=solid.height_m)
         else:
             half_extents = (solid.size_x_m / 2.0, solid.size_y_m / 2.0, solid.height_m / 2.0)
             collision = client.createCollisionShape(pybullet.GEOM_BOX, halfExtents=half_extents)
-            visual = client.createVisualShape(pybullet.GEOM_BOX, halfExtents=half_extents,
-                                              rgbaColor=list(rgba))
+            visual_shape = dict(shapeType=pybullet.GEOM_BOX, halfExtents=half_extents)
+        if rgba[3] == 0.0:
+            visual = client.createVisualShape(pybullet.GEOM_SPHERE,
+                                              radius=INVISIBLE_VISUAL_RADIUS_M, rgbaColor=colour)
+        else:
+            visual = client.createVisualShape(rgbaColor=colour, **visual_shape)
         return client.createMultiBody(
             baseMass=0.0, baseCollisionShapeIndex=collision, baseVisualShapeIndex=visual,
             basePosition=(solid.x_m, solid.y_m, solid.height_m / 2.0),
