@@ -688,6 +688,30 @@ def test_a_can_unseen_where_the_camera_would_see_its_base_is_lost():
     assert gap_m > 0.5
 
 
+def test_an_approach_on_a_carried_can_the_camera_would_see_ends_lost_not_stopped():
+    """Heading for a stop point aside an obstacle, the approach goes on with where the can was
+    ranged last while the camera does not see it. Arrived there with the can in the camera's
+    view (not below it) and unseen for longer than ~vanish_timeout, the can is not where it was
+    ranged (one frame ranged a half-hidden can far off): LOST, never STOPPED."""
+    controller = make_controller()
+    controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5, 0.2))
+    controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
+    controller.observe(ahead(STOP + 0.6), 0.0)
+    controller.command(0.0)
+    assert controller.state is State.APPROACH
+    controller.stop_aside = 0.0
+    x_m, now = 0.0, DT
+    while now < 15.0 and controller.state is State.APPROACH:
+        controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
+        controller.observe(None, now)
+        linear, _ = controller.command(now)
+        x_m += linear * DT
+        now += DT
+    assert controller.state is State.LOST, controller.why
+    assert x_m > 0.4
+    assert 'has not seen it there' in controller.why
+
+
 def test_unknown_floor_beside_the_way_ahead_makes_the_robot_turn_to_look():
     """A sensor that sees only a narrow wedge ahead: the floor just beside the way to the can
     is unknown, so the robot does not drive; rather than stand there it turns to look at that

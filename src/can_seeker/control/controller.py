@@ -95,7 +95,8 @@ PARAMS = (
     Param('lost_timeout', 5.0, 'LOST becomes SEARCH after this long without the can (s)',
           0.0, 120.0),
     Param('vanish_timeout', 1.5, 'STOPPED becomes LOST when the can has not been seen with a '
-          'range for this long (s)', 0.0, 120.0),
+          'range for this long (s); APPROACH stops only where the can was seen with a range '
+          'this recently, or where it is below the camera\'s view', 0.0, 120.0),
     Param('lockstep', False, 'answer every detection at once with a command stamped like its '
           'image (on /cmd_vel and cmd_vel_stamped; for a simulator in lockstep); the timer then '
           'sends only the zero of a stale detection'),
@@ -378,6 +379,7 @@ class Controller:
         self.last_image_s: Optional[float] = None
         self.lost_since_s = 0.0
         self.seen_since_stop_s = 0.0
+        self.ranged_seen_s = -math.inf
         self.last_command: Tuple[float, float] = (0.0, 0.0)
         self.last_command_s: Optional[float] = None
         self.navigator.reset()
@@ -431,6 +433,8 @@ class Controller:
         if sighting is not None and sighting.bearing_rad != 0.0:
             self.turn_sign = math.copysign(1.0, sighting.bearing_rad)
         ranged = sighting is not None and sighting.has_range
+        if ranged:
+            self.ranged_seen_s = now_s
         if (not ranged and self.state in (State.APPROACH, State.STOPPED)
                 and (self.can_below_view() or self.stop_aside is not None
                      or self._keeping_to_path())):
@@ -1101,6 +1105,21 @@ class Controller:
                               % self.sighting.gap_m)
         self.last_command = (linear, angular)
         if self.state is State.APPROACH and self._settled(self.last_command):
-            self._enter(State.STOPPED)
-            self.seen_since_stop_s = now_s
+            if self._can_vouched_for(now_s):
+                self._enter(State.STOPPED)
+                self.seen_since_stop_s = now_s
+            else:
+                self._enter(State.LOST)
+                self.lost_since_s = now_s
+                self.why = ('arrived where the can was ranged last, but the camera has not '
+                            'seen it there for %.1f s: LOST'
+                            % elapsed_s(now_s, self.ranged_seen_s))
         return self.last_command
+
+    def _can_vouched_for(self, now_s: float) -> bool:
+        """True when the camera ranged the can within ~vanish_timeout, or the can is below its
+        view: only then is an approach that arrived at the can, not at a place a false or
+        stale estimate put it (a can carried on odometry for long, or one frame that ranged a
+        half-hidden can far away)."""
+        return (elapsed_s(now_s, self.ranged_seen_s) <= self.config.vanish_timeout
+                or self.can_below_view())
