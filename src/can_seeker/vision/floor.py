@@ -244,6 +244,8 @@ class FloorClassifier:
         self.vignetting = VignettingEstimate(self.settings.max_vignetting)
         self._shape = None
         self.model = None
+        self._obstacle_bins_model = None
+        self._obstacle_bins = None
         self.chroma_model = None
         self.model_updated = False
 
@@ -369,11 +371,11 @@ class FloorClassifier:
         side = 2 * CHROMA_TOLERANCE_BINS + 1
         near = cv2.boxFilter(model.sum(axis=2), -1, (side, side), normalize=False,
                              borderType=cv2.BORDER_CONSTANT)
-        rare = np.repeat((near < self.settings.min_chroma_fraction)[:, :, None], VALUE_BINS,
-                         axis=2)
+        rare = (near < self.settings.min_chroma_fraction)[:, :, None]
         if self.settings.min_chroma_joint_fraction > 0.0:
-            rare |= _chroma_joint_neighbourhood(model) < self.settings.min_chroma_joint_fraction
-        self._chroma_rare = rare.ravel()
+            rare = rare | (_chroma_joint_neighbourhood(model)
+                           < self.settings.min_chroma_joint_fraction)
+        self._chroma_rare = np.broadcast_to(rare, model.shape).ravel()
 
     def _chroma_obstacles(self, chroma) -> np.ndarray:
         """Boolean image: usable pixels whose chromaticity, or chromaticity and brightness
@@ -394,9 +396,14 @@ class FloorClassifier:
             return
         if self.chroma_model is None:
             self._set_chroma_model(current)
-        else:
-            rate = self.settings.adapt_rate
-            self._set_chroma_model((1.0 - rate) * self.chroma_model + rate * current)
+            return
+        # In place: the model (2 MB) learns every frame.
+        rate = self.settings.adapt_rate
+        model = self.chroma_model
+        model *= 1.0 - rate
+        current *= rate
+        model += current
+        self._set_chroma_model(model)
 
     def _floor_share(self, bgr):
         """shift (log R/G, log B/G) -> the share (0-1) of the frame ``bgr`` (every second pixel)
@@ -418,10 +425,18 @@ class FloorClassifier:
 
     def _obstacle_pixels(self, features):
         """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model, or
-        (with ~min_joint_fraction) the pair of them. Faint colours count as grey while
+        (with ~min_joint_fraction) the pair of them (see :meth:`_obstacle_bins_of`)."""
+        if self._obstacle_bins_model is not self.model:
+            self._obstacle_bins = self._obstacle_bins_of(self.model)
+            self._obstacle_bins_model = self.model
+        return np.take(self._obstacle_bins, features)
+
+    def _obstacle_bins_of(self, model):
+        """uint8 per joint bin of ``model``, 255 where its pixels are obstacles: a frame
+        classifies its pixels several times against one model (the model is replaced, never
+        changed in place, when it learns). Faint colours count as grey while
         :data:`FAINT_MAX_GREY_SHARE` of the floor is grey."""
         threshold = self.settings.min_bin_fraction
-        model = self.model
         faint_as_grey = model[GREY_BIN].sum() >= FAINT_MAX_GREY_SHARE
         if faint_as_grey:
             model = model.copy()
@@ -439,7 +454,7 @@ class FloorClassifier:
             floor &= _joint_neighbourhood(model) >= self.settings.min_joint_fraction
         if faint_as_grey:
             floor[HUE_BINS:GREY_BIN] = floor[GREY_BIN]
-        return np.take(np.where(floor.ravel(), 0, 255).astype(np.uint8), features)
+        return np.where(floor.ravel(), 0, 255).astype(np.uint8)
 
     def _update_model(self, features, raw, reference):
         """Blend the reference area's floor pixels into the model unless the area is suspect;
