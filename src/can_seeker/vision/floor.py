@@ -547,7 +547,7 @@ def _nearest_floor(padded_floor: np.ndarray, padded_colours: np.ndarray, padded_
     yet."""
     stride = step[0] * padded_width + step[1]
     found = np.zeros(start.size, bool)
-    colour = np.zeros((start.size, 3), np.float32)
+    colour = np.zeros((start.size, 3), padded_colours.dtype)
     looking = np.arange(start.size)
     for distance in range(1, reach_px + 1):
         index = start + distance * stride
@@ -563,16 +563,35 @@ def _nearest_floor(padded_floor: np.ndarray, padded_colours: np.ndarray, padded_
     return found, colour
 
 
+def _contrasted(smooth: np.ndarray, floor: np.ndarray, rows: np.ndarray, columns: np.ndarray,
+                reach_px: int, min_contrast: float):
+    """(rows, columns) of those pixels that see floor colours at least ``min_contrast`` apart
+    within ``reach_px`` rows and columns: each channel's extremes over the floor's ``smooth``
+    colours (uint8 3x3 means) in that square bound the colours along BLEND_DIRECTIONS, so no
+    two of those differ by more. A pixel beside one floor colour is no blend; two dilations
+    spare it the search."""
+    square = np.ones((2 * reach_px + 1, 2 * reach_px + 1), np.uint8)
+    mask = floor.astype(np.uint8)
+    brightest = cv2.dilate(cv2.bitwise_and(smooth, smooth, mask=mask), square,
+                           borderType=cv2.BORDER_CONSTANT, borderValue=0)
+    inverse = cv2.bitwise_not(smooth)
+    darkest = 255 - cv2.dilate(cv2.bitwise_and(inverse, inverse, mask=mask), square,
+                               borderType=cv2.BORDER_CONSTANT, borderValue=0)[rows, columns]
+    spread = np.maximum(brightest[rows, columns].astype(np.int32) - darkest, 0)
+    keep = np.einsum('ij,ij->i', spread, spread) >= min_contrast * min_contrast
+    return rows[keep], columns[keep]
+
+
 def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = None,
                  tolerance: float = BLEND_TOLERANCE,
                  min_contrast: float = BLEND_MIN_CONTRAST) -> np.ndarray:
-    """Boolean image: the non-floor pixels whose colour is a mix of the floor around them. For
-    each pixel the nearest solid floor pixel (its 3x3 neighbourhood all ``floor``: speckles of
-    floor inside an object are not its sides) within ``reach_px`` steps (:func:`blend_reach_px`
-    of the image's width by default) is found along each of BLEND_DIRECTIONS; when the colours
-    (3x3 means) of two of them differ by at least ``min_contrast`` and the pixel's colour is
-    within ``tolerance`` of the segment between them, and BLEND_MARGIN inside it, it is a blend
-    of them."""
+    """Boolean image: the non-floor pixels of ``bgr`` (uint8) whose colour is a mix of the floor
+    around them. For each pixel the nearest solid floor pixel (its 3x3 neighbourhood all
+    ``floor``: speckles of floor inside an object are not its sides) within ``reach_px`` steps
+    (:func:`blend_reach_px` of the image's width by default) is found along each of
+    BLEND_DIRECTIONS; when the colours (3x3 means) of two of them differ by at least
+    ``min_contrast`` and the pixel's colour is within ``tolerance`` of the segment between
+    them, and BLEND_MARGIN inside it, it is a blend of them."""
     if reach_px is None:
         reach_px = blend_reach_px(floor.shape[1])
     blends = np.zeros(floor.shape, bool)
@@ -581,8 +600,11 @@ def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = N
     rows, columns = np.nonzero(~floor & _floor_in_two_directions(floor, reach_px))
     if rows.size == 0:
         return blends
-    smooth = cv2.blur(bgr, (3, 3)).astype(np.float32)
-    pixel = smooth[rows, columns]
+    smooth = cv2.blur(bgr, (3, 3))
+    rows, columns = _contrasted(smooth, floor, rows, columns, reach_px, min_contrast)
+    if rows.size == 0:
+        return blends
+    pixel = smooth[rows, columns].astype(np.float32)
     height, width = floor.shape
     padded_width = width + 2 * reach_px
     padded_floor = np.zeros((height + 2 * reach_px, padded_width), bool)
@@ -594,7 +616,7 @@ def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = N
                            reach_px) for step in BLEND_DIRECTIONS]
     # Channels as rows (one contiguous array each): the per-pair arithmetic below is on them.
     pixel = np.ascontiguousarray(pixel.T)
-    colours = [np.ascontiguousarray(colour.T) for _, colour in ends]
+    colours = [np.ascontiguousarray(colour.T).astype(np.float32) for _, colour in ends]
     undecided = np.ones(rows.size, bool)
     for first in range(len(ends)):
         for second in range(first + 1, len(ends)):
