@@ -317,6 +317,10 @@ class FloorClassifier:
         robot never moves it."""
         self.vignetting.observe(bgr)
         bgr = self.vignetting.correct(bgr)
+        # The chromaticity test's medians, taken before any drift is undone: a channel's median
+        # commutes with its gain (undo_shift is a monotone lookup per channel).
+        median = (cv2.medianBlur(bgr, CHROMA_MEDIAN_PX) if self.settings.min_chroma_fraction > 0.0
+                  else None)
         if self.model is None:
             self.white_balance.track(bgr[reference], bgr)
             features = self._features(bgr)
@@ -331,13 +335,16 @@ class FloorClassifier:
                 top = int(self.reference_corners[:, 1].min())
                 features = self._features(self.white_balance.correct(bgr[top:]))
                 floor_before = reference[top:] & (self._obstacle_pixels(features) == 0)
-                self.white_balance.track(bgr[top:][floor_before], bgr, self._floor_share(bgr))
+                self.white_balance.track(bgr[top:][floor_before], bgr,
+                                         self._floor_share(bgr, median))
                 bgr = self.white_balance.correct(bgr)
+                if median is not None:
+                    median = self.white_balance.correct(median)
             features = self._features(bgr)
             raw = self._obstacle_pixels(features)
         chroma = None
-        if self.settings.min_chroma_fraction > 0.0:
-            chroma = chroma_features(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX))
+        if median is not None:
+            chroma = chroma_features(median)
             if self.chroma_model is None:
                 self._set_chroma_model(self._chroma_histogram(chroma, reference))
             appearance_floor = raw == 0
@@ -405,20 +412,16 @@ class FloorClassifier:
         model += current
         self._set_chroma_model(model)
 
-    def _floor_share(self, bgr):
+    def _floor_share(self, bgr, median):
         """shift (log R/G, log B/G) -> the share (0-1) of the frame ``bgr`` (every second pixel)
-        the floor models take for floor with that shift undone. The chromaticity test's medians
-        are taken once, before any shift is undone: a channel's median commutes with its
-        gain."""
+        the floor models take for floor with that shift undone. ``median`` is the chromaticity
+        test's 5x5 median of ``bgr`` (None without that test)."""
         sample = bgr[::2, ::2]
-        medians = []
 
         def share(shift_log):
             obstacle = self._obstacle_pixels(self._features(undo_shift(sample, shift_log))) != 0
-            if self.settings.min_chroma_fraction > 0.0 and self.chroma_model is not None:
-                if not medians:
-                    medians.append(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX)[::2, ::2])
-                chroma = chroma_features(undo_shift(medians[0], shift_log))
+            if median is not None and self.chroma_model is not None:
+                chroma = chroma_features(undo_shift(median[::2, ::2], shift_log))
                 obstacle |= self._chroma_obstacles(chroma)
             return 1.0 - float(np.count_nonzero(obstacle)) / obstacle.size
         return share
