@@ -244,6 +244,8 @@ class FloorClassifier:
         self.vignetting = VignettingEstimate(self.settings.max_vignetting)
         self._shape = None
         self.model = None
+        self._obstacle_bins_model = None
+        self._obstacle_bins = None
         self.chroma_model = None
         self.model_updated = False
 
@@ -315,6 +317,10 @@ class FloorClassifier:
         robot never moves it."""
         self.vignetting.observe(bgr)
         bgr = self.vignetting.correct(bgr)
+        # The chromaticity test's medians, taken before any drift is undone: a channel's median
+        # commutes with its gain (undo_shift is a monotone lookup per channel).
+        median = (cv2.medianBlur(bgr, CHROMA_MEDIAN_PX) if self.settings.min_chroma_fraction > 0.0
+                  else None)
         if self.model is None:
             self.white_balance.track(bgr[reference], bgr)
             features = self._features(bgr)
@@ -329,13 +335,16 @@ class FloorClassifier:
                 top = int(self.reference_corners[:, 1].min())
                 features = self._features(self.white_balance.correct(bgr[top:]))
                 floor_before = reference[top:] & (self._obstacle_pixels(features) == 0)
-                self.white_balance.track(bgr[top:][floor_before], bgr, self._floor_share(bgr))
+                self.white_balance.track(bgr[top:][floor_before], bgr,
+                                         self._floor_share(bgr, median))
                 bgr = self.white_balance.correct(bgr)
+                if median is not None:
+                    median = self.white_balance.correct(median)
             features = self._features(bgr)
             raw = self._obstacle_pixels(features)
         chroma = None
-        if self.settings.min_chroma_fraction > 0.0:
-            chroma = chroma_features(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX))
+        if median is not None:
+            chroma = chroma_features(median)
             if self.chroma_model is None:
                 self._set_chroma_model(self._chroma_histogram(chroma, reference))
             appearance_floor = raw == 0
@@ -369,11 +378,11 @@ class FloorClassifier:
         side = 2 * CHROMA_TOLERANCE_BINS + 1
         near = cv2.boxFilter(model.sum(axis=2), -1, (side, side), normalize=False,
                              borderType=cv2.BORDER_CONSTANT)
-        rare = np.repeat((near < self.settings.min_chroma_fraction)[:, :, None], VALUE_BINS,
-                         axis=2)
+        rare = (near < self.settings.min_chroma_fraction)[:, :, None]
         if self.settings.min_chroma_joint_fraction > 0.0:
-            rare |= _chroma_joint_neighbourhood(model) < self.settings.min_chroma_joint_fraction
-        self._chroma_rare = rare.ravel()
+            rare = rare | (_chroma_joint_neighbourhood(model)
+                           < self.settings.min_chroma_joint_fraction)
+        self._chroma_rare = np.broadcast_to(rare, model.shape).ravel()
 
     def _chroma_obstacles(self, chroma) -> np.ndarray:
         """Boolean image: usable pixels whose chromaticity, or chromaticity and brightness
@@ -394,34 +403,43 @@ class FloorClassifier:
             return
         if self.chroma_model is None:
             self._set_chroma_model(current)
-        else:
-            rate = self.settings.adapt_rate
-            self._set_chroma_model((1.0 - rate) * self.chroma_model + rate * current)
+            return
+        # In place: the model (2 MB) learns every frame.
+        rate = self.settings.adapt_rate
+        model = self.chroma_model
+        model *= 1.0 - rate
+        current *= rate
+        model += current
+        self._set_chroma_model(model)
 
-    def _floor_share(self, bgr):
+    def _floor_share(self, bgr, median):
         """shift (log R/G, log B/G) -> the share (0-1) of the frame ``bgr`` (every second pixel)
-        the floor models take for floor with that shift undone. The chromaticity test's medians
-        are taken once, before any shift is undone: a channel's median commutes with its
-        gain."""
+        the floor models take for floor with that shift undone. ``median`` is the chromaticity
+        test's 5x5 median of ``bgr`` (None without that test)."""
         sample = bgr[::2, ::2]
-        medians = []
 
         def share(shift_log):
             obstacle = self._obstacle_pixels(self._features(undo_shift(sample, shift_log))) != 0
-            if self.settings.min_chroma_fraction > 0.0 and self.chroma_model is not None:
-                if not medians:
-                    medians.append(cv2.medianBlur(bgr, CHROMA_MEDIAN_PX)[::2, ::2])
-                chroma = chroma_features(undo_shift(medians[0], shift_log))
+            if median is not None and self.chroma_model is not None:
+                chroma = chroma_features(undo_shift(median[::2, ::2], shift_log))
                 obstacle |= self._chroma_obstacles(chroma)
             return 1.0 - float(np.count_nonzero(obstacle)) / obstacle.size
         return share
 
     def _obstacle_pixels(self, features):
         """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model, or
-        (with ~min_joint_fraction) the pair of them. Faint colours count as grey while
+        (with ~min_joint_fraction) the pair of them (see :meth:`_obstacle_bins_of`)."""
+        if self._obstacle_bins_model is not self.model:
+            self._obstacle_bins = self._obstacle_bins_of(self.model)
+            self._obstacle_bins_model = self.model
+        return np.take(self._obstacle_bins, features)
+
+    def _obstacle_bins_of(self, model):
+        """uint8 per joint bin of ``model``, 255 where its pixels are obstacles: a frame
+        classifies its pixels several times against one model (the model is replaced, never
+        changed in place, when it learns). Faint colours count as grey while
         :data:`FAINT_MAX_GREY_SHARE` of the floor is grey."""
         threshold = self.settings.min_bin_fraction
-        model = self.model
         faint_as_grey = model[GREY_BIN].sum() >= FAINT_MAX_GREY_SHARE
         if faint_as_grey:
             model = model.copy()
@@ -439,7 +457,7 @@ class FloorClassifier:
             floor &= _joint_neighbourhood(model) >= self.settings.min_joint_fraction
         if faint_as_grey:
             floor[HUE_BINS:GREY_BIN] = floor[GREY_BIN]
-        return np.take(np.where(floor.ravel(), 0, 255).astype(np.uint8), features)
+        return np.where(floor.ravel(), 0, 255).astype(np.uint8)
 
     def _update_model(self, features, raw, reference):
         """Blend the reference area's floor pixels into the model unless the area is suspect;
@@ -532,7 +550,7 @@ def _nearest_floor(padded_floor: np.ndarray, padded_colours: np.ndarray, padded_
     yet."""
     stride = step[0] * padded_width + step[1]
     found = np.zeros(start.size, bool)
-    colour = np.zeros((start.size, 3), np.float32)
+    colour = np.zeros((start.size, 3), padded_colours.dtype)
     looking = np.arange(start.size)
     for distance in range(1, reach_px + 1):
         index = start + distance * stride
@@ -548,16 +566,35 @@ def _nearest_floor(padded_floor: np.ndarray, padded_colours: np.ndarray, padded_
     return found, colour
 
 
+def _contrasted(smooth: np.ndarray, floor: np.ndarray, rows: np.ndarray, columns: np.ndarray,
+                reach_px: int, min_contrast: float):
+    """(rows, columns) of those pixels that see floor colours at least ``min_contrast`` apart
+    within ``reach_px`` rows and columns: each channel's extremes over the floor's ``smooth``
+    colours (uint8 3x3 means) in that square bound the colours along BLEND_DIRECTIONS, so no
+    two of those differ by more. A pixel beside one floor colour is no blend; two dilations
+    spare it the search."""
+    square = np.ones((2 * reach_px + 1, 2 * reach_px + 1), np.uint8)
+    mask = floor.astype(np.uint8)
+    brightest = cv2.dilate(cv2.bitwise_and(smooth, smooth, mask=mask), square,
+                           borderType=cv2.BORDER_CONSTANT, borderValue=0)
+    inverse = cv2.bitwise_not(smooth)
+    darkest = 255 - cv2.dilate(cv2.bitwise_and(inverse, inverse, mask=mask), square,
+                               borderType=cv2.BORDER_CONSTANT, borderValue=0)[rows, columns]
+    spread = np.maximum(brightest[rows, columns].astype(np.int32) - darkest, 0)
+    keep = np.einsum('ij,ij->i', spread, spread) >= min_contrast * min_contrast
+    return rows[keep], columns[keep]
+
+
 def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = None,
                  tolerance: float = BLEND_TOLERANCE,
                  min_contrast: float = BLEND_MIN_CONTRAST) -> np.ndarray:
-    """Boolean image: the non-floor pixels whose colour is a mix of the floor around them. For
-    each pixel the nearest solid floor pixel (its 3x3 neighbourhood all ``floor``: speckles of
-    floor inside an object are not its sides) within ``reach_px`` steps (:func:`blend_reach_px`
-    of the image's width by default) is found along each of BLEND_DIRECTIONS; when the colours
-    (3x3 means) of two of them differ by at least ``min_contrast`` and the pixel's colour is
-    within ``tolerance`` of the segment between them, and BLEND_MARGIN inside it, it is a blend
-    of them."""
+    """Boolean image: the non-floor pixels of ``bgr`` (uint8) whose colour is a mix of the floor
+    around them. For each pixel the nearest solid floor pixel (its 3x3 neighbourhood all
+    ``floor``: speckles of floor inside an object are not its sides) within ``reach_px`` steps
+    (:func:`blend_reach_px` of the image's width by default) is found along each of
+    BLEND_DIRECTIONS; when the colours (3x3 means) of two of them differ by at least
+    ``min_contrast`` and the pixel's colour is within ``tolerance`` of the segment between
+    them, and BLEND_MARGIN inside it, it is a blend of them."""
     if reach_px is None:
         reach_px = blend_reach_px(floor.shape[1])
     blends = np.zeros(floor.shape, bool)
@@ -566,8 +603,11 @@ def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = N
     rows, columns = np.nonzero(~floor & _floor_in_two_directions(floor, reach_px))
     if rows.size == 0:
         return blends
-    smooth = cv2.blur(bgr, (3, 3)).astype(np.float32)
-    pixel = smooth[rows, columns]
+    smooth = cv2.blur(bgr, (3, 3))
+    rows, columns = _contrasted(smooth, floor, rows, columns, reach_px, min_contrast)
+    if rows.size == 0:
+        return blends
+    pixel = smooth[rows, columns].astype(np.float32)
     height, width = floor.shape
     padded_width = width + 2 * reach_px
     padded_floor = np.zeros((height + 2 * reach_px, padded_width), bool)
@@ -579,7 +619,7 @@ def floor_blends(bgr: np.ndarray, floor: np.ndarray, reach_px: Optional[int] = N
                            reach_px) for step in BLEND_DIRECTIONS]
     # Channels as rows (one contiguous array each): the per-pair arithmetic below is on them.
     pixel = np.ascontiguousarray(pixel.T)
-    colours = [np.ascontiguousarray(colour.T) for _, colour in ends]
+    colours = [np.ascontiguousarray(colour.T).astype(np.float32) for _, colour in ends]
     undecided = np.ones(rows.size, bool)
     for first in range(len(ends)):
         for second in range(first + 1, len(ends)):

@@ -63,6 +63,7 @@ def _ratio_bin_table() -> np.ndarray:
 
 
 RATIO_BIN = _ratio_bin_table()
+_RATIO_BIN_FLAT = RATIO_BIN.ravel()
 LOG_LEVEL = np.log(np.arange(256, dtype=np.float32) + 0.5)
 """Natural log of every level (0-255), half a level up so that black stays finite."""
 
@@ -77,8 +78,9 @@ def chromaticity_bins(bgr: np.ndarray, min_value: int = MIN_VALUE):
     whether its chromaticity is reliable (brightest channel from ``min_value`` up to under
     MAX_VALUE, both ratios within the histogram)."""
     blue, green, red = bgr[..., 0], bgr[..., 1], bgr[..., 2]
-    rows = RATIO_BIN[blue, green]
-    columns = RATIO_BIN[red, green]
+    # One flat lookup of (a << 8) | b: several times faster than RATIO_BIN[a, b].
+    rows = _RATIO_BIN_FLAT.take((blue.astype(np.uint16) << 8) | green)
+    columns = _RATIO_BIN_FLAT.take((red.astype(np.uint16) << 8) | green)
     brightest = np.maximum(np.maximum(blue, green), red)
     usable = (rows != 255) & (columns != 255) & (brightest >= min_value) & (brightest < MAX_VALUE)
     return rows.astype(np.intp) * CHROMA_SIZE + columns, usable
@@ -238,24 +240,27 @@ class WhiteBalanceLock:
         usable in both frames that show the same surface in both (see SAME_SURFACE_LOG); None
         when too few pixels are usable, too few show the same surface (another scene) or the
         step exceeds FRAME_STEP_BINS."""
-        pixels = image[::2, ::2].reshape(-1, 3)
-        blue, green, red = LOG_LEVEL[pixels[:, 0]], LOG_LEVEL[pixels[:, 1]], LOG_LEVEL[
-            pixels[:, 2]]
-        brightest = pixels.max(axis=1)
-        usable = (brightest >= MIN_VALUE) & (brightest < MAX_VALUE) & (pixels.min(axis=1) > 0)
-        current = np.stack((red - green, blue - green, green), axis=1), usable
+        # Channels as flat arrays of their own: reductions across an interleaved pixel's
+        # channels, and indexing rows of an N x 3 array, are several times slower in numpy.
+        channels = [channel.ravel() for channel in cv2.split(np.ascontiguousarray(
+            image[::2, ::2]))]
+        brightest = np.maximum(np.maximum(channels[0], channels[1]), channels[2])
+        darkest = np.minimum(np.minimum(channels[0], channels[1]), channels[2])
+        usable = (brightest >= MIN_VALUE) & (brightest < MAX_VALUE) & (darkest > 0)
+        blue, green, red = (LOG_LEVEL.take(channel) for channel in channels)
+        current = (red - green, blue - green, green), usable
         last, self.last_frame = self.last_frame, current
-        if last is None or last[0].shape != current[0].shape:
+        if last is None or last[1].shape != usable.shape:
             return None
         both = usable & last[1]
         if np.count_nonzero(both) < MIN_PIXELS:
             return None
-        change = current[0][both] - last[0][both]
-        brightness = change[:, 2] - np.median(change[:, 2])
+        change = [now[both] - before[both] for now, before in zip(current[0], last[0])]
+        brightness = change[2] - np.median(change[2])
         same = np.abs(brightness) <= SAME_SURFACE_LOG
-        if np.count_nonzero(same) < max(MIN_PIXELS, MIN_SAME_SURFACE * len(change)):
+        if np.count_nonzero(same) < max(MIN_PIXELS, MIN_SAME_SURFACE * change[2].size):
             return None
-        step = np.array([_middle_mean(change[same, axis]) for axis in (0, 1)])
+        step = np.array([_middle_mean(change[axis][same]) for axis in (0, 1)])
         if np.any(np.abs(step) > FRAME_STEP_BINS * CHROMA_BIN):
             return None
         return step.astype(float)
