@@ -7,7 +7,10 @@ import numpy as np
 import pytest
 
 from can_seeker.control.bump_recovery import BACK_OFF_M, BACK_OFF_MPS, BumpRecovery
-from can_seeker.control.controller import PARAMS, Controller, Sighting, State
+from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.reasons import Kind
+from can_seeker.control.sighting import Sighting
+from can_seeker.control.supervisor import State
 from can_seeker.control.navigation import CameraView, Pose2D
 from can_seeker.health import ERROR, OK, WARN
 
@@ -183,7 +186,7 @@ def test_bump_recovery_marks_the_front_and_backs_off_then_hands_back():
     assert recovery.bumped(True, pose, 0.02) is None   # still the same touch
     command, why = recovery.command(pose, 0.02)
     assert command == (-BACK_OFF_MPS, 0.0)
-    assert why.startswith('bumped into something: backing off 0.00 of 0.10 m')
+    assert why.kind is Kind.BUMPED and why['backed_m'] == 0.0 and why['back_off_m'] == BACK_OFF_M
     backed = Pose2D(1.0, 2.0 - BACK_OFF_M, math.pi / 2.0)
     assert recovery.command(backed, 2.5) is None
     assert not recovery.active and recovery.count == 1
@@ -231,12 +234,12 @@ def test_a_bump_stops_at_once_backs_off_slowly_and_the_robot_keeps_off_the_conta
                                drive=True)
     assert all(-BACK_OFF_MPS - 1e-9 <= linear <= 0.0 for linear, _ in commands)
     assert commands[0][0] == pytest.approx(-DEFAULTS['max_linear_accel'] * DT)
-    assert controller.why.startswith('bumped into something: backing off')
+    assert controller.reason.kind is Kind.BUMPED
     controller.observe_bump(False, now)
     commands, pose, now = feed(controller, now, 10.0, Sighting(1.3 - pose.x, 0.0), pose=pose,
                                drive=True)
     assert pose.x < pressed_at.x - BACK_OFF_M / 2.0 or abs(pose.y) > 0.05
     contact_x = pressed_at.x + ROBOT_RADIUS
     assert math.hypot(pose.x - contact_x, pose.y) > ROBOT_RADIUS
-    assert controller.bump.count == 1
+    assert controller.parts.bump.count == 1
     assert dict(controller.health(now).values)['bumps'] == '1'

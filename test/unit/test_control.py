@@ -9,9 +9,13 @@ from can_seeker.camera_geometry import (camera_pose_from_mount, camera_pose_from
                                         intrinsics_from_vertical_fov)
 from can_seeker.camera_mount import CameraMount
 from can_seeker.control.navigation import CameraView, Pose2D, camera_view
-from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
-                                camera_floor_pose, dead_band, detection_problem,
-                                detection_shows_can, sighting_from_detection)
+from can_seeker.control.behaviours.approach import dead_band
+from can_seeker.control.behaviours.base import Result
+from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.sighting import (CameraFloorPose, Sighting, camera_floor_pose,
+                                         detection_problem, detection_shows_can,
+                                         sighting_from_detection)
+from can_seeker.control.supervisor import State
 from can_seeker.health import ERROR, OK, WARN
 from can_seeker.params import read_params
 
@@ -167,9 +171,8 @@ def test_approach_slows_down_near_target_but_keeps_minimum_speed():
 def test_approach_speed_profile_can_brake_within_remaining_gap():
     controller = make_controller(linear_gain=10.0)
     for gap_error in (0.02, 0.05, 0.1, 0.2):
-        controller.sighting = ahead(STOP + gap_error)
-        controller.state = State.APPROACH
-        linear, _ = controller.desired()
+        controller.tracker.sighting = ahead(STOP + gap_error)
+        linear, _ = controller.parts.approach.approach_law()
         braking_distance = linear ** 2 / (2 * DEFAULTS['max_linear_accel'])
         assert braking_distance <= gap_error + 1e-12
 
@@ -216,7 +219,7 @@ def test_approach_to_lost_on_detection_without_range():
     controller.observe(ahead(1.0, 10.0), 0.0)
     controller.observe(Sighting(math.nan, math.radians(25.0)), 0.1)
     assert controller.state is State.LOST
-    assert controller.turn_sign == 1.0
+    assert controller.tracker.turn_sign == 1.0
 
 
 def test_lost_to_approach_when_can_is_seen_again():
@@ -300,7 +303,7 @@ def test_reset_returns_to_search_at_rest():
     controller.reset()
     assert controller.state is State.SEARCH
     assert controller.last_command == (0.0, 0.0)
-    assert controller.turn_sign == 1.0
+    assert controller.tracker.turn_sign == 1.0
 
 
 def test_reset_ignores_detections_of_images_taken_before_it():
@@ -484,10 +487,11 @@ def test_a_failed_tick_counts_as_a_zero_command():
     command, now = run(controller, ahead(1.5), 0.0, 3.0)
     assert command[0] > 0.3
     controller.observe(ahead(1.5), now)
-    controller.desired = failing
+    approach = controller.supervisor.behaviours[State.APPROACH]
+    approach.command = failing
     with pytest.raises(RuntimeError):
         controller.command(now)
-    del controller.desired
+    del approach.command
     controller.observe(ahead(1.5), now + DT)
     linear, _ = controller.command(now + DT)
     assert 0.0 <= linear <= DEFAULTS['max_linear_accel'] * DT + 1e-12
@@ -501,7 +505,8 @@ def test_a_non_finite_desired_command_is_refused_not_limited():
     controller = make_controller()
     _, now = run(controller, ahead(1.5), 0.0, 3.0)
     controller.observe(ahead(1.5), now)
-    controller.desired = lambda _now_s: (math.nan, 0.0)
+    controller.supervisor.behaviours[State.APPROACH].command = lambda _now_s: Result(
+        (math.nan, 0.0))
     with pytest.raises(ValueError, match='finite'):
         controller.command(now)
     assert controller.last_command == (0.0, 0.0)
@@ -673,7 +678,7 @@ def test_the_approach_goes_on_by_odometry_once_the_cans_base_is_below_the_image(
     controller, gap_m = approach_with_the_base_leaving_the_image(1.5, 0.44)
     assert controller.state is State.STOPPED
     assert gap_m == pytest.approx(STOP, abs=DEFAULTS['distance_tolerance'])
-    assert controller.can_below_view()
+    assert controller.tracker.below_view(controller.context.camera_view)
     now = 30.0
     for _ in range(int(5.0 / DT)):
         controller.observe(None, now)

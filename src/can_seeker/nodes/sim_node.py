@@ -34,7 +34,7 @@ from tf2_msgs.msg import TFMessage
 
 from can_seeker.msg import Contacts
 from can_seeker.sim.call_queue import CallQueue
-from can_seeker.sim.lockstep import LockstepGate, header_stamp_s, parse_topics
+from can_seeker.sim.lockstep import LockstepGate, header_stamp_s
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.gui.display_check import X11_PROBE, display_problem
 from can_seeker.health import WARN, InputMonitor
