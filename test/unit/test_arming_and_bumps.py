@@ -8,7 +8,7 @@ import pytest
 
 from can_seeker.control.bump_recovery import BACK_OFF_M, BACK_OFF_MPS, BumpRecovery
 from can_seeker.control.controller import PARAMS, Controller
-from can_seeker.control.reasons import Kind
+from can_seeker.control.reasons import Kind, reason
 from can_seeker.control.sighting import Sighting
 from can_seeker.control.supervisor import State
 from can_seeker.control.navigation import CameraView, Pose2D
@@ -61,7 +61,8 @@ def test_armed_by_default_disarmed_starts_idle_with_zero_commands():
     commands, _, now = feed(controller, 0.0, 2.0, Sighting(1.0, 0.0))
     assert set(commands) == {(0.0, 0.0)}
     assert controller.state is State.IDLE
-    assert controller.why == 'disarmed (to arm: rosservice call /robot1/can_stopper/enable true)'
+    assert controller.reason == reason(Kind.DISARMED,
+                                       arm_hint='rosservice call /robot1/can_stopper/enable true')
     health = controller.health(now)
     assert health.message.startswith('IDLE: disarmed')
     assert dict(health.values)['armed'] == 'no'
@@ -98,7 +99,7 @@ def test_reset_while_disarmed_stays_idle():
     controller = make_controller(enabled=False)
     controller.reset(1.0)
     assert controller.state is State.IDLE
-    assert controller.why.startswith('disarmed')
+    assert controller.reason.kind is Kind.DISARMED
 
 
 def test_a_bump_while_disarmed_starts_no_recovery():
@@ -129,7 +130,7 @@ def test_without_explore_search_turns_in_place_after_a_full_turn():
     assert set(states) == {State.SEARCH}
     assert all(linear == 0.0 for linear, _ in commands)
     assert (pose.x, pose.y) == (0.0, 0.0)
-    assert turning.why == 'searched a full turn, ~explore is false: turning on in place'
+    assert turning.reason.kind is Kind.EXPLORE_OFF
 
 
 def test_without_explore_the_robot_still_approaches_a_can_it_sees():
@@ -148,8 +149,8 @@ def test_without_camera_info_the_robot_only_turns_and_says_so():
     assert controller.state is State.APPROACH
     assert all(linear == 0.0 for linear, _ in commands)
     assert commands[-1][1] > 0.0
-    assert controller.why == ('no camera_info on /robot1/camera/camera_info yet: no driving, '
-                              'only turning')
+    assert controller.reason == reason(Kind.SENSING_STALE,
+                                       problems='no camera_info on /robot1/camera/camera_info yet')
     missing = controller.missing_inputs(now)
     assert [item.name for item in missing] == ['camera_info']
     assert dict(controller.health(now).values)['missing inputs'] == \
@@ -163,8 +164,10 @@ def test_stale_camera_info_stops_the_driving_and_fresh_camera_info_lets_it_go_on
     assert commands[-1][0] > 0.2
     commands, _, now = feed(controller, now, 2.0, Sighting(1.0, 0.0), camera_info=False)
     assert commands[-1] == (0.0, 0.0)
-    assert controller.why.startswith('no camera_info on /robot1/camera/camera_info for ')
-    assert '(timeout 1.00 s)' in controller.why
+    assert controller.reason.kind is Kind.SENSING_STALE
+    problems = controller.reason['problems']
+    assert problems.startswith('no camera_info on /robot1/camera/camera_info for ')
+    assert '(timeout 1.00 s)' in problems
     commands, _, now = feed(controller, now, 1.0, Sighting(1.0, 0.0))
     assert commands[-1][0] > 0.1 and controller.missing_inputs(now) == []
 

@@ -12,6 +12,7 @@ from can_seeker.control.navigation import CameraView, Pose2D, camera_view
 from can_seeker.control.behaviours.approach import dead_band
 from can_seeker.control.behaviours.base import Result
 from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.reasons import Kind, Then, reason
 from can_seeker.control.sighting import (CameraFloorPose, Sighting, camera_floor_pose,
                                          detection_problem, detection_shows_can,
                                          sighting_from_detection)
@@ -563,14 +564,15 @@ def drive_toward_can(controller, start_s, duration_s, sources, odometry=True, ob
 def test_why_names_the_missing_odometry_while_the_command_is_zero():
     controller = make_controller(scan_topics='/scan')
     driving = drive_toward_can(controller, 0.0, 1.0, ('/scan',))
-    assert driving[0] > 0.1 and controller.why == ''
+    assert driving[0] > 0.1 and controller.reason is None
     assert controller.missing_inputs(1.0) == []
     assert controller.health(1.0).level == OK
     assert controller.health(1.0).message.startswith('APPROACH: commanding 0.')
     stopped = drive_toward_can(controller, 1.0, 1.5, ('/scan',), odometry=False)
     assert stopped == (0.0, 0.0)
     assert controller.state is State.APPROACH
-    assert controller.why.startswith('no odometry for ')
+    assert controller.reason.kind is Kind.SENSING_STALE
+    assert controller.reason['problems'].startswith('no odometry for ')
     health = controller.health(2.5)
     assert health.level == ERROR
     assert health.message.startswith('APPROACH: no odometry for ')
@@ -584,9 +586,10 @@ def test_why_names_a_stale_detection_and_an_unheard_scan():
     controller.observe_camera_info(0.0)
     controller.observe(ahead(1.0), 0.0)
     assert controller.command(0.0)[0] == 0.0
-    assert controller.why == 'no scan on /scan yet: no driving, only turning'
+    assert controller.reason == reason(Kind.SENSING_STALE, problems='no scan on /scan yet')
     assert controller.command(1.0) == (0.0, 0.0)
-    assert controller.why.startswith('no detection for 1.00 s')
+    assert controller.reason.kind is Kind.INPUTS_MISSING
+    assert controller.reason['problems'].startswith('no detection for 1.00 s')
 
 
 def test_inputs_awaited_since_a_reset_are_overdue_only_after_their_timeout():
@@ -607,20 +610,22 @@ def test_why_says_an_obstacle_capped_the_speed():
     command = drive_toward_can(controller, 0.0, 2.0, ('/scan',), obstacle=('/scan', -0.27),
                                gap_m=TOO_CLOSE)
     assert command[0] == 0.0
-    assert controller.why.startswith('obstacle behind: ')
+    assert controller.reason.kind is Kind.SPEED_CAPPED and not controller.reason['ahead']
+    assert not controller.reason['unknown_floor']
 
 
 def test_why_says_deadband_then_stopped_at_the_can():
     controller = make_controller()
     controller.observe(ahead(STOP + 0.002), 0.0)
     assert controller.command(0.0) == (0.0, 0.0)
-    assert controller.why.startswith('deadband: gap within 2.0 mm')
+    assert controller.reason.kind is Kind.DEADBAND
+    assert controller.reason['gap_error_m'] == pytest.approx(0.002)
     controller.observe(ahead(STOP + 0.002), DT)
     controller.command(DT)
     assert controller.state is State.STOPPED
     controller.observe(ahead(STOP + 0.002), 2 * DT)
     controller.command(2 * DT)
-    assert controller.why == 'stopped at the can'
+    assert controller.reason.kind is Kind.STOPPED_AT_CAN
 
 
 @pytest.mark.parametrize('seen_by', ['/camera_scan', '/scan'])
@@ -633,7 +638,7 @@ def test_an_obstacle_either_sensor_sees_is_an_obstacle(seen_by):
                                     sources, gap_m=TOO_CLOSE)
     assert command[0] == 0.0
     assert unobstructed[0] == pytest.approx(-DEFAULTS['max_reverse'])
-    assert fused.why.startswith('obstacle behind: ')
+    assert fused.reason.kind is Kind.SPEED_CAPPED and not fused.reason['ahead']
 
 
 def test_a_stale_sensor_stops_the_driving_even_when_the_other_is_fresh():
@@ -642,7 +647,8 @@ def test_a_stale_sensor_stops_the_driving_even_when_the_other_is_fresh():
     assert drive_toward_can(controller, 0.0, 1.0, sources)[0] > 0.1
     command = drive_toward_can(controller, 1.0, 1.0, ('/camera_scan',))
     assert command[0] == 0.0
-    assert controller.why.startswith('no scan on /scan for ')
+    assert controller.reason.kind is Kind.SENSING_STALE
+    assert controller.reason['problems'].startswith('no scan on /scan for ')
     assert [item.name for item in controller.missing_inputs(2.0)] == ['/scan']
 
 
@@ -711,10 +717,10 @@ def test_unknown_floor_beside_the_way_ahead_makes_the_robot_turn_to_look():
         now += DT
     assert command[0] == 0.0
     assert abs(command[1]) > 0.0
-    assert controller.why.startswith('floor not yet seen ahead')
-    assert controller.why.endswith('turning to look at it')
+    assert controller.reason.kind is Kind.SPEED_CAPPED and controller.reason['unknown_floor']
+    assert controller.reason['ahead'] and controller.reason['then'] is Then.LOOK
     command = drive_toward_can(controller, now, 1.0, ('/scan',))
-    assert command[0] > 0.1 and controller.why == ''
+    assert command[0] > 0.1 and controller.reason is None
 
 
 def test_a_late_scan_is_placed_at_the_pose_it_was_taken_from():
@@ -776,7 +782,7 @@ def backing_up_to_see(view, unknown_x, unknown_y, obstacle_behind=False, duratio
         controller.observe_camera_info(now)
         controller.observe(Sighting(1.0 - x_m, 0.0), now)
         commands.append(controller.command(now))
-        reasons.append(controller.why)
+        reasons.append(controller.reason)
         if len(commands) > 5 and commands[-1][0] >= 0.0 and commands[-2][0] < 0.0:
             break
         x_m += commands[-1][0] * DT
@@ -805,20 +811,20 @@ def test_unknown_floor_below_the_cameras_view_makes_the_robot_back_up_to_see_it(
     instead."""
     view = CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5, 0.5)
     controller, x_m, commands, reasons, now = backing_up_to_see(view, (0.2, 0.45), (-0.2, 0.2))
-    assert reasons[0].endswith('below the camera\'s view: backing up to see it')
+    assert reasons[0]['then'] is Then.BACK_UP
     assert commands[20] == (pytest.approx(-DEFAULTS['max_reverse']), 0.0)
-    assert 'backing up' in reasons[20]
+    assert reasons[20].kind is Kind.BACKING_TO_SEE
     # then the unknown floor's nearest cells (0.2 m ahead of base_link, 0.08 m ahead of the
     # camera) are half a cell and 5 cm beyond the bottom row's 0.5 m (to a tick's travel)
     assert 0.45 < -x_m < 0.52
     command, _ = drive_on_with_the_floor_observed(controller, x_m, now)
-    assert command[0] > 0.1 and controller.why == ''
+    assert command[0] > 0.1 and controller.reason is None
 
     controller, x_m, commands, reasons, _ = backing_up_to_see(view, (0.2, 0.45), (-0.2, 0.2),
                                                               obstacle_behind=True)
     assert len(commands) == int(8.0 / DT)
     assert x_m == 0.0 and all(command[0] == 0.0 for command in commands)
-    assert abs(commands[-1][1]) > 0.0 and reasons[-1].endswith('turning to look at it')
+    assert abs(commands[-1][1]) > 0.0 and reasons[-1]['then'] is Then.LOOK
 
 
 def test_unknown_floor_beside_the_front_backs_a_steep_camera_up_until_the_view_is_wide_enough():
@@ -833,7 +839,7 @@ def test_unknown_floor_beside_the_front_backs_a_steep_camera_up_until_the_view_i
     assert view.base_half_width_m == pytest.approx(0.11, abs=0.005)
     assert view.side_slope == pytest.approx(0.45, abs=0.01)
     controller, x_m, commands, reasons, now = backing_up_to_see(view, (0.1, 0.3), (0.12, 0.25))
-    assert reasons[0].endswith('below the camera\'s view: backing up to see it')
+    assert reasons[0]['then'] is Then.BACK_UP
     assert 0.3 < -x_m < 0.5
     command, driven_x_m = drive_on_with_the_floor_observed(controller, x_m, now)
-    assert driven_x_m > x_m + 0.1 and command[0] > 0.1 and controller.why == ''
+    assert driven_x_m > x_m + 0.1 and command[0] > 0.1 and controller.reason is None

@@ -74,7 +74,7 @@ class TurnToLook:
     def unblock(self, command: Command, verdict: Verdict,
                 exclude_xy) -> Optional[Tuple[Command, Then]]:
         search_angular = self.config.search_angular
-        if abs(command[1]) < LOOK_BELOW_FRACTION * search_angular:
-            return ((verdict.linear, math.copysign(search_angular, verdict.unknown_point[1] or 1.0)),
-                    Then.LOOK)
-        return None
+        if abs(command[1]) >= LOOK_BELOW_FRACTION * search_angular:
+            return None
+        side = verdict.unknown_point[1] or 1.0
+        return (verdict.linear, math.copysign(search_angular, side)), Then.LOOK
