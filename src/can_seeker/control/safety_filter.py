@@ -10,11 +10,10 @@ import numpy as np
 from can_seeker.control import avoidance
 from can_seeker.control.input_freshness import MissingInput, problems_text
 from can_seeker.control.reasons import Kind, Reason, Then, reason
+from can_seeker.control.twist_limits import Command
 
 SAFETY_RESERVE_M = 0.03
 """Braking at ~max_linear_accel stops the robot this much short of the free travel (m)."""
-
-Command = Tuple[float, float]
 
 
 class Verdict(NamedTuple):

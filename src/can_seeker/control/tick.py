@@ -12,9 +12,7 @@ from can_seeker.control.elapsed import elapsed_s
 from can_seeker.control.input_freshness import problems_text
 from can_seeker.control.reasons import Because, Kind, Reason, Then, reason
 from can_seeker.control.supervisor import State
-from can_seeker.control.twist_limits import ZERO, limit_twist, require_finite
-
-Command = Tuple[float, float]
+from can_seeker.control.twist_limits import ZERO, Command, limit_twist, require_finite
 
 
 class Tick:

@@ -7,11 +7,12 @@ the path whether or not the straight line is clear (the KeepToPath recovery)."""
 import math
 from typing import Optional
 
-from can_seeker.control.behaviours.base import Behaviour, Command, Result
+from can_seeker.control.behaviours.base import Behaviour, Result
 from can_seeker.control.behaviours.stop_aside import StopAside
 from can_seeker.control.navigation import CLEAR_AHEAD_M
 from can_seeker.control.reasons import Kind, Reason, reason
 from can_seeker.control.supervisor import Event
+from can_seeker.control.twist_limits import Command
 
 DIRECT_GAP_M = 0.5
 """The last stretch (gap, m) the direct law drives, whatever stands beside it."""

@@ -1,12 +1,11 @@
 """What every behaviour has: the shared :class:`Context`, the :class:`Result` of a tick, and
 the no-op hooks of :class:`Behaviour`."""
-from typing import NamedTuple, Optional, Tuple
+from typing import NamedTuple, Optional
 
-from can_seeker.control.reasons import Consequence, Kind, Reason, reason
 from can_seeker.control.input_freshness import problems_text
+from can_seeker.control.reasons import Consequence, Kind, Reason, reason
 from can_seeker.control.supervisor import Event
-
-Command = Tuple[float, float]
+from can_seeker.control.twist_limits import Command
 
 
 class Result(NamedTuple):

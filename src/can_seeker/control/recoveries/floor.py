@@ -6,6 +6,7 @@ from typing import Optional, Tuple
 
 from can_seeker.control.reasons import Kind, Reason, Then, reason
 from can_seeker.control.safety_filter import Verdict
+from can_seeker.control.twist_limits import Command
 
 BACK_UP_BEYOND_M = 0.05
 """A robot backing up to see floor below the camera's view backs up this much farther than
@@ -13,8 +14,6 @@ that floor is below it, so the image's bottom rows see it whole."""
 LOOK_BELOW_FRACTION = 0.5
 """A robot kept from driving by unknown floor and turning slower than this fraction of
 ~search_angular turns to look at that floor instead."""
-
-Command = Tuple[float, float]
 
 
 class BackUpToSeeFloor:
