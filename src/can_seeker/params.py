@@ -169,3 +169,12 @@ def markdown_table(specs: Sequence[Param]) -> str:
             spec.name, type(spec.default).__name__, _cell(default) if default else '""',
             range_text(spec), unit_of(spec), spec.safer or '', _cell(spec.doc)))
     return '\n'.join(rows)
+
+
+def parse_topics(text: str) -> Sequence[str]:
+    """Topic names separated by spaces or commas, in order, without repeats."""
+    names = []
+    for name in text.replace(',', ' ').split():
+        if name not in names:
+            names.append(name)
+    return tuple(names)

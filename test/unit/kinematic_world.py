@@ -8,7 +8,7 @@ from typing import List, Tuple
 
 import numpy as np
 
-from can_seeker.control.controller import Sighting
+from can_seeker.control.sighting import Sighting
 from can_seeker.control.navigation import CameraView, Pose2D
 
 ROBOT_RADIUS = 0.165

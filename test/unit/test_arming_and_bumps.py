@@ -7,7 +7,10 @@ import numpy as np
 import pytest
 
 from can_seeker.control.bump_recovery import BACK_OFF_M, BACK_OFF_MPS, BumpRecovery
-from can_seeker.control.controller import PARAMS, Controller, Sighting, State
+from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.reasons import Kind, reason
+from can_seeker.control.sighting import Sighting
+from can_seeker.control.supervisor import State
 from can_seeker.control.navigation import CameraView, Pose2D
 from can_seeker.health import ERROR, OK, WARN
 
@@ -58,7 +61,8 @@ def test_armed_by_default_disarmed_starts_idle_with_zero_commands():
     commands, _, now = feed(controller, 0.0, 2.0, Sighting(1.0, 0.0))
     assert set(commands) == {(0.0, 0.0)}
     assert controller.state is State.IDLE
-    assert controller.why == 'disarmed (to arm: rosservice call /robot1/can_stopper/enable true)'
+    assert controller.reason == reason(Kind.DISARMED,
+                                       arm_hint='rosservice call /robot1/can_stopper/enable true')
     health = controller.health(now)
     assert health.message.startswith('IDLE: disarmed')
     assert dict(health.values)['armed'] == 'no'
@@ -95,7 +99,7 @@ def test_reset_while_disarmed_stays_idle():
     controller = make_controller(enabled=False)
     controller.reset(1.0)
     assert controller.state is State.IDLE
-    assert controller.why.startswith('disarmed')
+    assert controller.reason.kind is Kind.DISARMED
 
 
 def test_a_bump_while_disarmed_starts_no_recovery():
@@ -126,7 +130,7 @@ def test_without_explore_search_turns_in_place_after_a_full_turn():
     assert set(states) == {State.SEARCH}
     assert all(linear == 0.0 for linear, _ in commands)
     assert (pose.x, pose.y) == (0.0, 0.0)
-    assert turning.why == 'searched a full turn, ~explore is false: turning on in place'
+    assert turning.reason.kind is Kind.EXPLORE_OFF
 
 
 def test_without_explore_the_robot_still_approaches_a_can_it_sees():
@@ -145,8 +149,8 @@ def test_without_camera_info_the_robot_only_turns_and_says_so():
     assert controller.state is State.APPROACH
     assert all(linear == 0.0 for linear, _ in commands)
     assert commands[-1][1] > 0.0
-    assert controller.why == ('no camera_info on /robot1/camera/camera_info yet: no driving, '
-                              'only turning')
+    assert controller.reason == reason(Kind.SENSING_STALE,
+                                       problems='no camera_info on /robot1/camera/camera_info yet')
     missing = controller.missing_inputs(now)
     assert [item.name for item in missing] == ['camera_info']
     assert dict(controller.health(now).values)['missing inputs'] == \
@@ -160,8 +164,10 @@ def test_stale_camera_info_stops_the_driving_and_fresh_camera_info_lets_it_go_on
     assert commands[-1][0] > 0.2
     commands, _, now = feed(controller, now, 2.0, Sighting(1.0, 0.0), camera_info=False)
     assert commands[-1] == (0.0, 0.0)
-    assert controller.why.startswith('no camera_info on /robot1/camera/camera_info for ')
-    assert '(timeout 1.00 s)' in controller.why
+    assert controller.reason.kind is Kind.SENSING_STALE
+    problems = controller.reason['problems']
+    assert problems.startswith('no camera_info on /robot1/camera/camera_info for ')
+    assert '(timeout 1.00 s)' in problems
     commands, _, now = feed(controller, now, 1.0, Sighting(1.0, 0.0))
     assert commands[-1][0] > 0.1 and controller.missing_inputs(now) == []
 
@@ -183,7 +189,7 @@ def test_bump_recovery_marks_the_front_and_backs_off_then_hands_back():
     assert recovery.bumped(True, pose, 0.02) is None   # still the same touch
     command, why = recovery.command(pose, 0.02)
     assert command == (-BACK_OFF_MPS, 0.0)
-    assert why.startswith('bumped into something: backing off 0.00 of 0.10 m')
+    assert why.kind is Kind.BUMPED and why['backed_m'] == 0.0 and why['back_off_m'] == BACK_OFF_M
     backed = Pose2D(1.0, 2.0 - BACK_OFF_M, math.pi / 2.0)
     assert recovery.command(backed, 2.5) is None
     assert not recovery.active and recovery.count == 1
@@ -231,12 +237,12 @@ def test_a_bump_stops_at_once_backs_off_slowly_and_the_robot_keeps_off_the_conta
                                drive=True)
     assert all(-BACK_OFF_MPS - 1e-9 <= linear <= 0.0 for linear, _ in commands)
     assert commands[0][0] == pytest.approx(-DEFAULTS['max_linear_accel'] * DT)
-    assert controller.why.startswith('bumped into something: backing off')
+    assert controller.reason.kind is Kind.BUMPED
     controller.observe_bump(False, now)
     commands, pose, now = feed(controller, now, 10.0, Sighting(1.3 - pose.x, 0.0), pose=pose,
                                drive=True)
     assert pose.x < pressed_at.x - BACK_OFF_M / 2.0 or abs(pose.y) > 0.05
     contact_x = pressed_at.x + ROBOT_RADIUS
     assert math.hypot(pose.x - contact_x, pose.y) > ROBOT_RADIUS
-    assert controller.bump.count == 1
+    assert controller.parts.bump.count == 1
     assert dict(controller.health(now).values)['bumps'] == '1'

@@ -9,9 +9,14 @@ from can_seeker.camera_geometry import (camera_pose_from_mount, camera_pose_from
                                         intrinsics_from_vertical_fov)
 from can_seeker.camera_mount import CameraMount
 from can_seeker.control.navigation import CameraView, Pose2D, camera_view
-from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, Sighting, State,
-                                camera_floor_pose, dead_band, detection_problem,
-                                detection_shows_can, sighting_from_detection)
+from can_seeker.control.behaviours.approach import dead_band
+from can_seeker.control.behaviours.base import Result
+from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.reasons import Kind, Then, reason
+from can_seeker.control.sighting import (CameraFloorPose, Sighting, camera_floor_pose,
+                                         detection_problem, detection_shows_can,
+                                         sighting_from_detection)
+from can_seeker.control.supervisor import State
 from can_seeker.health import ERROR, OK, WARN
 from can_seeker.params import read_params
 
@@ -167,9 +172,8 @@ def test_approach_slows_down_near_target_but_keeps_minimum_speed():
 def test_approach_speed_profile_can_brake_within_remaining_gap():
     controller = make_controller(linear_gain=10.0)
     for gap_error in (0.02, 0.05, 0.1, 0.2):
-        controller.sighting = ahead(STOP + gap_error)
-        controller.state = State.APPROACH
-        linear, _ = controller.desired()
+        controller.tracker.sighting = ahead(STOP + gap_error)
+        linear, _ = controller.parts.approach.approach_law()
         braking_distance = linear ** 2 / (2 * DEFAULTS['max_linear_accel'])
         assert braking_distance <= gap_error + 1e-12
 
@@ -216,7 +220,7 @@ def test_approach_to_lost_on_detection_without_range():
     controller.observe(ahead(1.0, 10.0), 0.0)
     controller.observe(Sighting(math.nan, math.radians(25.0)), 0.1)
     assert controller.state is State.LOST
-    assert controller.turn_sign == 1.0
+    assert controller.tracker.turn_sign == 1.0
 
 
 def test_lost_to_approach_when_can_is_seen_again():
@@ -300,7 +304,7 @@ def test_reset_returns_to_search_at_rest():
     controller.reset()
     assert controller.state is State.SEARCH
     assert controller.last_command == (0.0, 0.0)
-    assert controller.turn_sign == 1.0
+    assert controller.tracker.turn_sign == 1.0
 
 
 def test_reset_ignores_detections_of_images_taken_before_it():
@@ -484,10 +488,11 @@ def test_a_failed_tick_counts_as_a_zero_command():
     command, now = run(controller, ahead(1.5), 0.0, 3.0)
     assert command[0] > 0.3
     controller.observe(ahead(1.5), now)
-    controller.desired = failing
+    approach = controller.supervisor.behaviours[State.APPROACH]
+    approach.command = failing
     with pytest.raises(RuntimeError):
         controller.command(now)
-    del controller.desired
+    del approach.command
     controller.observe(ahead(1.5), now + DT)
     linear, _ = controller.command(now + DT)
     assert 0.0 <= linear <= DEFAULTS['max_linear_accel'] * DT + 1e-12
@@ -501,7 +506,8 @@ def test_a_non_finite_desired_command_is_refused_not_limited():
     controller = make_controller()
     _, now = run(controller, ahead(1.5), 0.0, 3.0)
     controller.observe(ahead(1.5), now)
-    controller.desired = lambda _now_s: (math.nan, 0.0)
+    controller.supervisor.behaviours[State.APPROACH].command = lambda _now_s: Result(
+        (math.nan, 0.0))
     with pytest.raises(ValueError, match='finite'):
         controller.command(now)
     assert controller.last_command == (0.0, 0.0)
@@ -558,14 +564,15 @@ def drive_toward_can(controller, start_s, duration_s, sources, odometry=True, ob
 def test_why_names_the_missing_odometry_while_the_command_is_zero():
     controller = make_controller(scan_topics='/scan')
     driving = drive_toward_can(controller, 0.0, 1.0, ('/scan',))
-    assert driving[0] > 0.1 and controller.why == ''
+    assert driving[0] > 0.1 and controller.reason is None
     assert controller.missing_inputs(1.0) == []
     assert controller.health(1.0).level == OK
     assert controller.health(1.0).message.startswith('APPROACH: commanding 0.')
     stopped = drive_toward_can(controller, 1.0, 1.5, ('/scan',), odometry=False)
     assert stopped == (0.0, 0.0)
     assert controller.state is State.APPROACH
-    assert controller.why.startswith('no odometry for ')
+    assert controller.reason.kind is Kind.SENSING_STALE
+    assert controller.reason['problems'].startswith('no odometry for ')
     health = controller.health(2.5)
     assert health.level == ERROR
     assert health.message.startswith('APPROACH: no odometry for ')
@@ -579,9 +586,10 @@ def test_why_names_a_stale_detection_and_an_unheard_scan():
     controller.observe_camera_info(0.0)
     controller.observe(ahead(1.0), 0.0)
     assert controller.command(0.0)[0] == 0.0
-    assert controller.why == 'no scan on /scan yet: no driving, only turning'
+    assert controller.reason == reason(Kind.SENSING_STALE, problems='no scan on /scan yet')
     assert controller.command(1.0) == (0.0, 0.0)
-    assert controller.why.startswith('no detection for 1.00 s')
+    assert controller.reason.kind is Kind.INPUTS_MISSING
+    assert controller.reason['problems'].startswith('no detection for 1.00 s')
 
 
 def test_inputs_awaited_since_a_reset_are_overdue_only_after_their_timeout():
@@ -602,20 +610,22 @@ def test_why_says_an_obstacle_capped_the_speed():
     command = drive_toward_can(controller, 0.0, 2.0, ('/scan',), obstacle=('/scan', -0.27),
                                gap_m=TOO_CLOSE)
     assert command[0] == 0.0
-    assert controller.why.startswith('obstacle behind: ')
+    assert controller.reason.kind is Kind.SPEED_CAPPED and not controller.reason['ahead']
+    assert not controller.reason['unknown_floor']
 
 
 def test_why_says_deadband_then_stopped_at_the_can():
     controller = make_controller()
     controller.observe(ahead(STOP + 0.002), 0.0)
     assert controller.command(0.0) == (0.0, 0.0)
-    assert controller.why.startswith('deadband: gap within 2.0 mm')
+    assert controller.reason.kind is Kind.DEADBAND
+    assert controller.reason['gap_error_m'] == pytest.approx(0.002)
     controller.observe(ahead(STOP + 0.002), DT)
     controller.command(DT)
     assert controller.state is State.STOPPED
     controller.observe(ahead(STOP + 0.002), 2 * DT)
     controller.command(2 * DT)
-    assert controller.why == 'stopped at the can'
+    assert controller.reason.kind is Kind.STOPPED_AT_CAN
 
 
 @pytest.mark.parametrize('seen_by', ['/camera_scan', '/scan'])
@@ -628,7 +638,7 @@ def test_an_obstacle_either_sensor_sees_is_an_obstacle(seen_by):
                                     sources, gap_m=TOO_CLOSE)
     assert command[0] == 0.0
     assert unobstructed[0] == pytest.approx(-DEFAULTS['max_reverse'])
-    assert fused.why.startswith('obstacle behind: ')
+    assert fused.reason.kind is Kind.SPEED_CAPPED and not fused.reason['ahead']
 
 
 def test_a_stale_sensor_stops_the_driving_even_when_the_other_is_fresh():
@@ -637,7 +647,8 @@ def test_a_stale_sensor_stops_the_driving_even_when_the_other_is_fresh():
     assert drive_toward_can(controller, 0.0, 1.0, sources)[0] > 0.1
     command = drive_toward_can(controller, 1.0, 1.0, ('/camera_scan',))
     assert command[0] == 0.0
-    assert controller.why.startswith('no scan on /scan for ')
+    assert controller.reason.kind is Kind.SENSING_STALE
+    assert controller.reason['problems'].startswith('no scan on /scan for ')
     assert [item.name for item in controller.missing_inputs(2.0)] == ['/scan']
 
 
@@ -673,7 +684,7 @@ def test_the_approach_goes_on_by_odometry_once_the_cans_base_is_below_the_image(
     controller, gap_m = approach_with_the_base_leaving_the_image(1.5, 0.44)
     assert controller.state is State.STOPPED
     assert gap_m == pytest.approx(STOP, abs=DEFAULTS['distance_tolerance'])
-    assert controller.can_below_view()
+    assert controller.tracker.below_view(controller.context.camera_view)
     now = 30.0
     for _ in range(int(5.0 / DT)):
         controller.observe(None, now)
@@ -699,7 +710,7 @@ def test_an_approach_on_a_carried_can_the_camera_would_see_ends_lost_not_stopped
     controller.observe(ahead(STOP + 0.6), 0.0)
     controller.command(0.0)
     assert controller.state is State.APPROACH
-    controller.stop_aside = 0.0
+    controller.parts.approach.stop_aside.direction_rad = math.pi
     x_m, now = 0.0, DT
     while now < 15.0 and controller.state is State.APPROACH:
         controller.observe_pose(Pose2D(x_m, 0.0, 0.0), now)
@@ -709,7 +720,8 @@ def test_an_approach_on_a_carried_can_the_camera_would_see_ends_lost_not_stopped
         now += DT
     assert controller.state is State.LOST, controller.why
     assert x_m > 0.4
-    assert 'has not seen it there' in controller.why
+    assert controller.reason.kind is Kind.ARRIVED_UNSEEN
+    assert controller.reason['unseen_s'] > DEFAULTS['vanish_timeout']
 
 
 def test_unknown_floor_beside_the_way_ahead_makes_the_robot_turn_to_look():
@@ -730,10 +742,10 @@ def test_unknown_floor_beside_the_way_ahead_makes_the_robot_turn_to_look():
         now += DT
     assert command[0] == 0.0
     assert abs(command[1]) > 0.0
-    assert controller.why.startswith('floor not yet seen ahead')
-    assert controller.why.endswith('turning to look at it')
+    assert controller.reason.kind is Kind.SPEED_CAPPED and controller.reason['unknown_floor']
+    assert controller.reason['ahead'] and controller.reason['then'] is Then.LOOK
     command = drive_toward_can(controller, now, 1.0, ('/scan',))
-    assert command[0] > 0.1 and controller.why == ''
+    assert command[0] > 0.1 and controller.reason is None
 
 
 def test_a_late_scan_is_placed_at_the_pose_it_was_taken_from():
@@ -795,7 +807,7 @@ def backing_up_to_see(view, unknown_x, unknown_y, obstacle_behind=False, duratio
         controller.observe_camera_info(now)
         controller.observe(Sighting(1.0 - x_m, 0.0), now)
         commands.append(controller.command(now))
-        reasons.append(controller.why)
+        reasons.append(controller.reason)
         if len(commands) > 5 and commands[-1][0] >= 0.0 and commands[-2][0] < 0.0:
             break
         x_m += commands[-1][0] * DT
@@ -824,20 +836,20 @@ def test_unknown_floor_below_the_cameras_view_makes_the_robot_back_up_to_see_it(
     instead."""
     view = CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5, 0.5)
     controller, x_m, commands, reasons, now = backing_up_to_see(view, (0.2, 0.45), (-0.2, 0.2))
-    assert reasons[0].endswith('below the camera\'s view: backing up to see it')
+    assert reasons[0]['then'] is Then.BACK_UP
     assert commands[20] == (pytest.approx(-DEFAULTS['max_reverse']), 0.0)
-    assert 'backing up' in reasons[20]
+    assert reasons[20].kind is Kind.BACKING_TO_SEE
     # then the unknown floor's nearest cells (0.2 m ahead of base_link, 0.08 m ahead of the
     # camera) are half a cell and 5 cm beyond the bottom row's 0.5 m (to a tick's travel)
     assert 0.45 < -x_m < 0.52
     command, _ = drive_on_with_the_floor_observed(controller, x_m, now)
-    assert command[0] > 0.1 and controller.why == ''
+    assert command[0] > 0.1 and controller.reason is None
 
     controller, x_m, commands, reasons, _ = backing_up_to_see(view, (0.2, 0.45), (-0.2, 0.2),
                                                               obstacle_behind=True)
     assert len(commands) == int(8.0 / DT)
     assert x_m == 0.0 and all(command[0] == 0.0 for command in commands)
-    assert abs(commands[-1][1]) > 0.0 and reasons[-1].endswith('turning to look at it')
+    assert abs(commands[-1][1]) > 0.0 and reasons[-1]['then'] is Then.LOOK
 
 
 def test_unknown_floor_beside_the_front_backs_a_steep_camera_up_until_the_view_is_wide_enough():
@@ -852,7 +864,7 @@ def test_unknown_floor_beside_the_front_backs_a_steep_camera_up_until_the_view_i
     assert view.base_half_width_m == pytest.approx(0.11, abs=0.005)
     assert view.side_slope == pytest.approx(0.45, abs=0.01)
     controller, x_m, commands, reasons, now = backing_up_to_see(view, (0.1, 0.3), (0.12, 0.25))
-    assert reasons[0].endswith('below the camera\'s view: backing up to see it')
+    assert reasons[0]['then'] is Then.BACK_UP
     assert 0.3 < -x_m < 0.5
     command, driven_x_m = drive_on_with_the_floor_observed(controller, x_m, now)
-    assert driven_x_m > x_m + 0.1 and command[0] > 0.1 and controller.why == ''
+    assert driven_x_m > x_m + 0.1 and command[0] > 0.1 and controller.reason is None

@@ -71,3 +71,7 @@ def test_module_docstrings_state_a_contract_not_a_design_note():
         if docstring and docstring.count('\n') + 1 > MAX_MODULE_DOCSTRING_LINES:
             long[str(path.relative_to(PACKAGE))] = docstring.count('\n') + 1
     assert long == {}
+
+
+def test_the_controller_does_not_import_the_simulator():
+    assert subpackage_imports('control', 'can_seeker.sim') == {}

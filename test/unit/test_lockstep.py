@@ -5,7 +5,8 @@ import time
 
 import pytest
 
-from can_seeker.sim.lockstep import LockstepGate, header_stamp_s, parse_topics
+from can_seeker.params import parse_topics
+from can_seeker.sim.lockstep import LockstepGate, header_stamp_s
 
 
 def test_parse_topics_keeps_order_and_drops_repeats():

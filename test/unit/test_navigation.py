@@ -8,8 +8,11 @@ import pytest
 from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_vertical_fov
 from can_seeker.camera_mount import CameraMount
 from can_seeker.control import avoidance, planner
-from can_seeker.control.controller import (APPROACH_STALL_BEYOND_MEMORY_S, PARAMS, Controller,
-                                           Sighting, State)
+from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.reasons import Because, Kind
+from can_seeker.control.recoveries.stall import APPROACH_STALL_BEYOND_MEMORY_S
+from can_seeker.control.sighting import Sighting
+from can_seeker.control.supervisor import Event, State
 from can_seeker.control.grid_map import GridMap
 from can_seeker.control.navigation import Navigator, Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
@@ -304,14 +307,14 @@ def test_following_a_path_says_why_it_only_turns():
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
     ahead, behind = np.array([[0.2, 0.0], [1.0, 0.0]]), np.array([[-0.2, 0.0], [-1.0, 0.0]])
     (linear, _), why = navigator.follow(ahead, 0.3, math.radians(25.0), 2.0)
-    assert linear > 0.0 and why == ''
+    assert linear > 0.0 and why is None
     (linear, angular), why = navigator.follow(behind, 0.3, math.radians(25.0), 2.0)
-    assert linear == 0.0 and angular != 0.0 and why.startswith('turning to the path first')
+    assert linear == 0.0 and angular != 0.0 and why.kind is Kind.TURNING_TO_PATH
     ring = 0.25 * np.stack((np.cos(np.linspace(0, 2 * math.pi, 72, endpoint=False)),
                             np.sin(np.linspace(0, 2 * math.pi, 72, endpoint=False))), axis=1)
     navigator.add_scan(ring, np.ones(len(ring), bool), (0.0, 0.0), navigator.pose)
     (linear, angular), why = navigator.follow(ahead, 0.3, math.radians(25.0), 2.0)
-    assert linear == 0.0 and angular != 0.0 and why.startswith('no heading clear')
+    assert linear == 0.0 and angular != 0.0 and why.kind is Kind.NO_CLEAR_HEADING
 
 
 def wall_navigator(wall_xy, pose):
@@ -405,7 +408,7 @@ def test_without_a_scan_the_robot_does_not_drive_forward():
     controller = make_controller()
     controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
     controller.observe(None, 0.0)
-    controller.state = State.EXPLORE
+    controller.supervisor.handle(Event.SEARCHED_ALL_ROUND, 0.0)
     for step in range(20):
         controller.observe(None, step * 0.05)
         controller.observe_pose(Pose2D(0.0, 0.0, 0.0), step * 0.05)
@@ -433,8 +436,9 @@ def test_with_a_lidar_exploration_heads_first_for_the_small_object_it_saw():
     controller = make_controller()
     run(controller, world, 30.0, stop_when=lambda c: c.state is State.EXPLORE)
     assert controller.state is State.EXPLORE
-    assert controller.goal_is_candidate
-    assert math.hypot(controller.goal_xy[0] - can[0], controller.goal_xy[1] - can[1]) < 0.1
+    explore = controller.parts.explore
+    assert explore.goal_is_candidate
+    assert math.hypot(explore.goal_xy[0] - can[0], explore.goal_xy[1] - can[1]) < 0.1
     now, poses, states, clearance = run(controller, world, 60.0, stop_when=stopped,
                                         start_s=30.0)
     assert controller.state is State.STOPPED
@@ -448,31 +452,33 @@ def test_exploration_keeps_a_candidate_goal_while_the_robot_gets_nearer_over_cov
     controller.navigator.candidates_viewed.append(False)
     controller.navigator.pose = Pose2D(0.0, 0.0, 0.0)
     assert controller.navigator.unviewed_candidate() is not None
-    controller.state = State.EXPLORE
-    controller.goal_xy, controller.goal_is_candidate = np.array([3.0, 0.0]), True
+    controller.supervisor.handle(Event.SEARCHED_ALL_ROUND, 0.0)
+    explore, give_up = controller.parts.explore, controller.parts.give_up
+    explore.goal_xy, explore.goal_is_candidate = np.array([3.0, 0.0]), True
     for step in range(200):                                  # 10 s at 0.1 m/s, nothing new seen
         controller.navigator.pose = Pose2D(0.005 * step, 0.0, 0.0)
-        controller._note_progress(0.05 * step)
-    assert controller.goal_xy is not None
+        give_up.after_tick(State.EXPLORE, 0.05 * step, Because())
+    assert explore.goal_xy is not None
     for step in range(200, 400):                             # 10 s standing
-        controller._note_progress(0.05 * step)
-    assert controller.goal_xy is None                        # given up
+        give_up.after_tick(State.EXPLORE, 0.05 * step, Because())
+    assert explore.goal_xy is None                           # given up
     assert controller.navigator.unviewed_candidate() is None
 
 
 def test_a_place_chosen_after_stalled_floor_gets_its_own_stall_time():
     controller = make_controller()
     controller.navigator.pose = Pose2D(0.0, 0.0, 0.0)
-    controller.state = State.EXPLORE
-    controller.goal_xy = np.array([1.0, 1.0])                # floor; nothing new seen for 5 s
+    controller.supervisor.handle(Event.SEARCHED_ALL_ROUND, 0.0)
+    explore, give_up = controller.parts.explore, controller.parts.give_up
+    explore.goal_xy = np.array([1.0, 1.0])                   # floor; nothing new seen for 5 s
     for step in range(100):
-        controller._note_progress(0.05 * step)
+        give_up.after_tick(State.EXPLORE, 0.05 * step, Because())
     controller.navigator.candidates.append(np.array([3.0, 0.0]))
     controller.navigator.candidates_viewed.append(False)
-    controller.goal_xy, controller.goal_is_candidate = np.array([3.0, 0.0]), True
+    explore.goal_xy, explore.goal_is_candidate = np.array([3.0, 0.0]), True
     for step in range(100, 200):                              # 5 s more, standing
-        controller._note_progress(0.05 * step)
-    assert controller.goal_xy is not None
+        give_up.after_tick(State.EXPLORE, 0.05 * step, Because())
+    assert explore.goal_xy is not None
     assert controller.navigator.unviewed_candidate() is not None
 
 
@@ -487,7 +493,7 @@ def test_arriving_at_a_place_where_the_can_may_stand_counts_it_as_looked_at():
                             (0.0, 0.0), 0.0)
     controller.observe_camera_info(0.0)
     controller.observe(None, 0.0)
-    controller.state = State.EXPLORE
+    controller.supervisor.handle(Event.SEARCHED_ALL_ROUND, 0.0)
     controller.command(0.0)
     assert controller.state is State.SEARCH
     assert navigator.unviewed_candidate() is None
@@ -514,21 +520,22 @@ def test_an_approach_that_gets_no_nearer_switches_to_keeping_to_its_path():
                             np.array([False]), (0.0, 0.0), 0.0)
     controller.observe(Sighting(1.8, 0.0, 1.0), 0.0)
     assert controller.state is State.APPROACH
+    keep = controller.parts.keep_to_path
     for step in range(int(stall_s / 0.05) + 1):
-        controller._note_approach_progress(0.05 * step)
-    assert not controller.keep_to_path
-    controller._note_approach_progress(stall_s + 0.1)
-    assert controller.keep_to_path
+        keep.after_tick(controller.state, 0.05 * step, Because())
+    assert not keep.active
+    keep.after_tick(controller.state, stall_s + 0.1, Because())
+    assert keep.active
     controller.observe(None, stall_s + 0.2)
     assert controller.state is State.APPROACH
     assert controller.sighting.gap_m == pytest.approx(1.8)
     nearer_s = stall_s + 5.0
     controller.observe_pose(Pose2D(0.25, 0.0, 0.0), nearer_s)
-    controller._note_approach_progress(nearer_s)
-    controller._note_approach_progress(nearer_s + stall_s)
-    assert controller.keep_to_path
-    controller._note_approach_progress(nearer_s + stall_s + 0.1)
-    assert not controller.keep_to_path
+    keep.after_tick(controller.state, nearer_s, Because())
+    keep.after_tick(controller.state, nearer_s + stall_s, Because())
+    assert keep.active
+    keep.after_tick(controller.state, nearer_s + stall_s + 0.1, Because())
+    assert not keep.active
     controller.observe(None, nearer_s + stall_s + 0.2)
     assert controller.state is State.LOST
 
@@ -559,11 +566,14 @@ def test_keeping_to_a_path_that_no_longer_reaches_the_can_backs_up():
     controller.observe_camera_info(3.0)
     controller.observe(Sighting(1.5 - ROBOT_RADIUS - DEFAULTS['can_radius'], 0.0, 1.0), 3.0)
     assert controller.state is State.APPROACH
-    usual = controller._toward_can(3.0)
+    approach = controller.parts.approach
+    controller.context.because = because = Because()
+    usual = approach.command(3.0).command
     assert usual[0] >= 0.0
-    controller.keep_to_path = True
-    assert controller._toward_can(3.1) == (-DEFAULTS['max_reverse'], 0.0)
-    assert controller.why.startswith('keeping to a path to the can, none found: backing up')
+    controller.parts.keep_to_path.active = True
+    controller.context.because = because = Because()
+    assert approach.command(3.1).command == (-DEFAULTS['max_reverse'], 0.0)
+    assert because.first.kind is Kind.NO_PATH_TO_CAN
 
 
 def test_keeping_to_the_path_ends_near_the_can_and_outside_approach():
@@ -572,12 +582,12 @@ def test_keeping_to_the_path_ends_near_the_can_and_outside_approach():
     controller = make_controller()
     controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
     controller.observe(Sighting(0.4, 0.0, 1.0), 0.0)
-    controller.keep_to_path = True
+    keep = controller.parts.keep_to_path
+    keep.active = True
     controller.observe(None, 0.1)
     assert controller.state is State.LOST
-    controller.keep_to_path = True
-    controller._enter(State.SEARCH)
-    assert not controller.keep_to_path
+    controller.supervisor.handle(Event.LOST_TIMEOUT, 0.2)
+    assert not keep.active
 
 
 CLUTTER = [(-1.27, 2.58, 0.155), (-0.01, -1.65, 0.21), (-1.57, 2.71, 0.15), (2.43, 1.61, 0.2),
@@ -611,7 +621,7 @@ def test_lost_facing_where_the_can_was_searches_at_once():
     assert states[-1] is State.SEARCH and State.LOST in states
     lost_s = (len(states) - states.index(State.LOST)) / 20.0
     assert lost_s < DEFAULTS['lost_timeout'] / 2.0
-    assert controller.why == 'the can is not where it was seen last: searching'
+    assert controller.reason.kind is Kind.CAN_NOT_THERE
 
 
 def test_wander_keeps_moving_without_touching_anything():
@@ -933,7 +943,8 @@ def test_within_the_stop_tolerance_the_robot_faces_the_can_instead_of_a_stop_poi
         controller.observe_scan(controller.scan_sources[0], blocked, hits, (0.0, 0.0), now)
         controller.observe(Sighting(gap_m, bearing - pose.yaw), now)
         linear, angular = controller.command(now)
-        assert 'beside' not in controller.why, (step, controller.why)
+        assert controller.reason is None or controller.reason.kind is not \
+            Kind.TURNING_TO_STOP_ASIDE, (step, controller.why)
         assert linear == 0.0 and angular <= 0.0, (step, linear, angular)
         pose = Pose2D(0.0, 0.0, pose.yaw + angular * 0.05)
         if controller.state is State.STOPPED:

@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from can_seeker.control.controller import State
+from can_seeker.control.supervisor import State
 from can_seeker.control.navigation import Pose2D
 from can_seeker.control.pose_history import PoseHistory, sighting_from
 from test_control import ahead, make_controller

@@ -1,1 +1,2 @@
-"""The can_stopper behaviour: state machine and control law, velocity and acceleration limits."""
+"""The can_stopper controller: a supervisor over a behaviour per state and recoveries, the
+safety filter, the map and paths, velocity and acceleration limits."""

@@ -12,6 +12,7 @@ from typing import Optional, Tuple
 
 from can_seeker.control.elapsed import elapsed_s
 from can_seeker.control.navigation import Pose2D
+from can_seeker.control.reasons import Kind, Reason, reason
 
 BACK_OFF_M = 0.1
 """How far the robot backs off after a bump (m): far enough for a bumper's travel (a few cm)
@@ -63,7 +64,7 @@ class BumpRecovery:
                 pose.y + self.robot_radius_m * math.sin(pose.yaw))
 
     def command(self, pose: Optional[Pose2D],
-                now_s: float) -> Optional[Tuple[Tuple[float, float], str]]:
+                now_s: float) -> Optional[Tuple[Tuple[float, float], Reason]]:
         """((linear m/s, angular rad/s), why) while the recovery runs, None once it is over:
         straight back until ``BACK_OFF_M`` from where the bump was, or until its time is
         up."""
@@ -77,5 +78,5 @@ class BumpRecovery:
         if backed_m >= BACK_OFF_M or elapsed_s(now_s, self.start_s) > limit_s:
             self.cancel()
             return None
-        return (-self.speed_mps, 0.0), ('bumped into something: backing off %.2f of %.2f m'
-                                        % (backed_m, BACK_OFF_M))
+        return (-self.speed_mps, 0.0), reason(Kind.BUMPED, backed_m=backed_m,
+                                              back_off_m=BACK_OFF_M)

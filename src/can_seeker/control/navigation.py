@@ -15,6 +15,7 @@ import numpy as np
 from can_seeker.camera_geometry import CameraIntrinsics, CameraPose, floor_point
 from can_seeker.control import avoidance, can_candidates, planner
 from can_seeker.control.grid_map import GridMap
+from can_seeker.control.reasons import Kind, Reason, reason
 from can_seeker.lattice import lattice
 
 PLAN_MARGIN_CELLS = 10
@@ -490,12 +491,12 @@ class Navigator:
         return planner.segment_blocked(blocked, start, goal)
 
     def follow(self, path_xy: np.ndarray, cruise_mps: float, turn_in_place_rad: float,
-               angular_gain: float) -> Tuple[Tuple[float, float], str]:
+               angular_gain: float) -> Tuple[Tuple[float, float], Optional[Reason]]:
         """((linear, angular), why) toward the path's lookahead point, brought nearer along the
         path (down to ``MIN_LOOKAHEAD_M``) until the straight line to it clears the obstacles,
         so the robot does not cut corners into them; then the clear heading nearest to it, so a
         robot that has come too close to an obstacle turns to a gap instead of stalling.
-        ``why`` says why it only turns ('' when it drives)."""
+        ``why`` says why it only turns (None when it drives)."""
         pose = self.pose
         index = avoidance.lookahead_index(path_xy, (pose.x, pose.y), LOOKAHEAD_M)
         nearest = avoidance.lookahead_index(path_xy, (pose.x, pose.y), MIN_LOOKAHEAD_M)
@@ -513,13 +514,13 @@ class Navigator:
         heading = avoidance.clear_heading(points, math.atan2(target_base[1], target_base[0]),
                                           clearance, CLEAR_AHEAD_M)
         if math.isnan(heading):
-            return (0.0, math.copysign(angular_gain, target_base[1] or 1.0)), (
-                'no heading clear for %.2f m: turning in place toward the path' % CLEAR_AHEAD_M)
+            return (0.0, math.copysign(angular_gain, target_base[1] or 1.0)), reason(
+                Kind.NO_CLEAR_HEADING, clear_m=CLEAR_AHEAD_M)
         command = avoidance.steer_to_point((math.cos(heading), math.sin(heading)), cruise_mps,
                                            turn_in_place_rad, angular_gain)
-        why = '' if command[0] > 0.0 else (
-            'turning to the path first: clear heading %.0f deg off, driving within %.0f deg'
-            % (math.degrees(heading), math.degrees(turn_in_place_rad)))
+        why = None if command[0] > 0.0 else reason(
+            Kind.TURNING_TO_PATH, heading_deg=math.degrees(heading),
+            limit_deg=math.degrees(turn_in_place_rad))
         return command, why
 
     def distance_to(self, xy: Sequence[float]) -> float:

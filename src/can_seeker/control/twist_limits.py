@@ -11,7 +11,9 @@ from typing import Sequence, Tuple
 
 from can_seeker.ramp import clamp, step_toward  # noqa: F401 (the controller's API too)
 
-ZERO = (0.0, 0.0)
+Command = Tuple[float, float]
+"""(linear m/s, angular rad/s) in base_link."""
+ZERO: Command = (0.0, 0.0)
 
 
 @dataclass(frozen=True)

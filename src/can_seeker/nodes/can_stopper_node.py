@@ -39,8 +39,10 @@ from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse
 from visualization_msgs.msg import MarkerArray
 
 from can_seeker.camera_geometry import intrinsics_from_k, yaw_from_quaternion
-from can_seeker.control.controller import (PARAMS, CameraFloorPose, Controller, camera_floor_pose,
-                                detection_problem, problems_text, sighting_from_detection)
+from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.input_freshness import problems_text
+from can_seeker.control.sighting import (CameraFloorPose, camera_floor_pose, detection_problem,
+                                         sighting_from_detection)
 from can_seeker.control.frame_inputs import FrameInputs
 from can_seeker.control.navigation import Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
@@ -160,7 +162,7 @@ class CanStopperNode:
     def stale_detection(self, now):
         """Whether a detection came and is stale now (in lockstep the timer then sends
         zero)."""
-        return self.controller.is_stale(now) and self.controller.last_image_s is not None
+        return self.controller.detection_stale(now)
 
     def sensor_pose(self, frame_id):
         """The full pose (CameraPose: position, rotation) of a sensor frame in ~base_frame
@@ -366,7 +368,7 @@ class CanStopperNode:
             if (self.controller.senses_obstacles
                     and abs(now - self.coverage_s) >= COVERAGE_PERIOD_S):
                 self.coverage_s = now
-                coverage = self.controller.navigator.grid.coverage_values()
+                coverage = self.controller.map_layers()
             missing = self.controller.missing_inputs(now)
             state, why = self.controller.state.value, self.why(now)
             view = self.view(now)
@@ -385,17 +387,17 @@ class CanStopperNode:
                     item.problem, state, 'command: %s' % why if why else
                     'command not limited by it'))
 
-    def publish_coverage(self, values, now):
-        """The obstacle and coverage grid as an OccupancyGrid in ~odom_frame (100 obstacle, 0
-        floor the camera covered, -1 not covered)."""
-        grid = self.controller.navigator.grid
+    def publish_coverage(self, layer, now):
+        """The obstacle and coverage grid (values, cell size, origin) as an OccupancyGrid in
+        ~odom_frame (100 obstacle, 0 floor the camera covered, -1 not covered)."""
+        values, resolution_m, origin_m = layer
         self.coverage_pub.publish(occupancy_grid(
-            values, grid.resolution_m, (grid.origin_m, grid.origin_m), self.odom_frame,
+            values, resolution_m, (origin_m, origin_m), self.odom_frame,
             rospy.Time.from_sec(now)))
 
     def view(self, now):
         """What rviz is shown, under the lock, every VIEW_PERIOD_S while anyone subscribes:
-        (obstacle grid values or None, path or None, can estimate, robot xy, state)."""
+        (obstacle grid layer or None, path or None, can estimate, robot xy, state)."""
         want_grid = self.obstacle_grid_pub.get_num_connections() > 0
         want_path = self.path_pub.get_num_connections() > 0
         want_markers = self.markers_pub.get_num_connections() > 0
@@ -403,23 +405,19 @@ class CanStopperNode:
             return None
         self.view_s = now
         controller = self.controller
-        navigator = controller.navigator
-        grid = navigator.grid.obstacle_values() if want_grid else None
+        grid = controller.map_layers(obstacles=True) if want_grid else None
         path = None if controller.path_xy is None else np.array(controller.path_xy)
-        pose = navigator.pose
-        return (grid, path if want_path else False, controller.can_xy,
-                None if pose is None else (pose.x, pose.y),
+        return (grid, path if want_path else False, controller.can_xy, controller.robot_xy,
                 controller.state.value if want_markers else None)
 
     def publish_view(self, view, now):
         """~obstacle_grid, ~path and ~markers in ~odom_frame (those someone subscribes)."""
-        grid_values, path, can_xy, robot_xy, state = view
+        grid, path, can_xy, robot_xy, state = view
         stamp = rospy.Time.from_sec(now)
-        if grid_values is not None:
-            grid = self.controller.navigator.grid
+        if grid is not None:
+            values, resolution_m, origin_m = grid
             self.obstacle_grid_pub.publish(occupancy_grid(
-                grid_values, grid.resolution_m, (grid.origin_m, grid.origin_m),
-                self.odom_frame, stamp))
+                values, resolution_m, (origin_m, origin_m), self.odom_frame, stamp))
         if path is not False:
             self.path_pub.publish(path_msg(path, self.odom_frame, stamp))
         if state is not None:

@@ -34,11 +34,11 @@ from tf2_msgs.msg import TFMessage
 
 from can_seeker.msg import Contacts
 from can_seeker.sim.call_queue import CallQueue
-from can_seeker.sim.lockstep import LockstepGate, header_stamp_s, parse_topics
+from can_seeker.sim.lockstep import LockstepGate, header_stamp_s
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.gui.display_check import X11_PROBE, display_problem
 from can_seeker.health import WARN, InputMonitor
-from can_seeker.params import read_params
+from can_seeker.params import parse_topics, read_params
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import camera_info, odometry, transform_stamped
 from can_seeker.ros.paths import robots_dir, urdf_path, worlds_dir

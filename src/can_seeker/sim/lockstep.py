@@ -18,15 +18,6 @@ HEADER_STAMP = struct.Struct('<III')
 """A serialized std_msgs/Header starts with seq, stamp.secs, stamp.nsecs (little-endian)."""
 
 
-def parse_topics(text: str) -> Sequence[str]:
-    """Topic names separated by spaces or commas, in order, without repeats."""
-    names = []
-    for name in text.replace(',', ' ').split():
-        if name not in names:
-            names.append(name)
-    return tuple(names)
-
-
 def header_stamp_s(serialized: bytes) -> float:
     """The header stamp (s) of a serialized message whose first field is a std_msgs/Header.
 

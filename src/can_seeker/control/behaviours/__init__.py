@@ -1,0 +1,1 @@
+"""The controller's behaviours, one per state; each owns its per-state memory."""

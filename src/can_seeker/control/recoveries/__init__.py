@@ -1,0 +1,1 @@
+"""Recoveries: what the controller tries, in order, when progress stops."""
