@@ -26,14 +26,15 @@ SOURCE_DIR = pathlib.Path(__file__).resolve().parent
 
 def code_commit(source_dir: pathlib.Path = SOURCE_DIR) -> Optional[str]:
     """The short hash of the commit checked out where the code runs from, with ``-dirty`` when
-    tracked files differ from it; None outside a git checkout."""
+    tracked files other than the result files differ from it (a run that rewrites
+    docs/results/ ran the same code); None outside a git checkout."""
     def git(*args):
         return subprocess.run(('git', '-C', str(source_dir)) + args, capture_output=True,
                               text=True, check=False)
     head = git('rev-parse', '--short', 'HEAD')
     if head.returncode != 0:
         return None
-    dirty = git('diff', '--quiet', 'HEAD', '--').returncode != 0
+    dirty = git('diff', '--quiet', 'HEAD', '--', ':/', ':(exclude,top)docs/results').returncode != 0
     return head.stdout.strip() + ('-dirty' if dirty else '')
 
 
