@@ -101,6 +101,22 @@ def test_the_detector_finds_and_ranges_the_textured_can_like_the_plain_one():
     assert np.all((bias[3:] > -0.005) & (bias[3:] < 0.045)), np.round(bias, 3)
 
 
+def reports_straight_ahead(height_m, pitch_deg, fov_deg, ranges_m):
+    """(range, image_converter's report) of the textured can straight ahead at each of
+    ``ranges_m`` (to its near surface from the camera), rendered with TinyRenderer at 320x240
+    from a camera ``height_m`` up pitched ``pitch_deg`` down."""
+    from can_seeker.vision.detector import RedCanDetector
+    from can_seeker.vision.report import CanModel, can_report, fallback_pose
+    camera = CameraSpec(320, 240, fov_deg, CameraMount(height_m, pitch_deg))
+    pose, detector = fallback_pose(height_m, pitch_deg), RedCanDetector()
+    with World(URDF, camera, renderer='tiny', can_texture='textured') as world:
+        for range_m in ranges_m:
+            world.place_can(0.12 + range_m + 0.033, 0.0)
+            world.step()
+            yield range_m, can_report(detector.detect(world.render('bgr8')).candidates, 320,
+                                      240, pose, camera.intrinsics, CanModel())
+
+
 @pytest.mark.parametrize('height_m, pitch_deg, fov_deg', [(0.102, 0.0, 48.8), (0.25, 25.0, 45.0)])
 def test_the_textured_cans_range_at_the_stop_is_true_from_a_low_level_camera_too(
         height_m, pitch_deg, fov_deg):
@@ -108,17 +124,8 @@ def test_the_textured_cans_range_at_the_stop_is_true_from_a_low_level_camera_too
     a level camera 0.1 m up (a TurtleBot3 Waffle Pi's) as from one 0.25 m up pitched 25 deg:
     the floor ray through the red's lower edge meets the can 5 mm up, not on the floor, which
     read 5-6 % long from the low camera."""
-    from can_seeker.vision.detector import RedCanDetector
-    from can_seeker.vision.report import CanModel, can_report, fallback_pose
-    camera = CameraSpec(320, 240, fov_deg, CameraMount(height_m, pitch_deg))
-    pose, detector = fallback_pose(height_m, pitch_deg), RedCanDetector()
-    with World(URDF, camera, renderer='tiny', can_texture='textured') as world:
-        for range_m in (0.3, 0.4, 0.5):
-            world.place_can(0.12 + range_m + 0.033, 0.0)
-            world.step()
-            report = can_report(detector.detect(world.render('bgr8')).candidates, 320, 240,
-                                pose, camera.intrinsics, CanModel())
-            assert report.range_m == pytest.approx(range_m, rel=0.015), (range_m, report.range_m)
+    for range_m, report in reports_straight_ahead(height_m, pitch_deg, fov_deg, (0.3, 0.4, 0.5)):
+        assert report.range_m == pytest.approx(range_m, rel=0.015), (range_m, report.range_m)
 
 
 def test_a_steep_camera_is_sure_of_the_can_close_below_it():
@@ -127,15 +134,6 @@ def test_a_steep_camera_is_sure_of_the_can_close_below_it():
     Judged as a silhouette seen from the side that scores 0.37 at 0.25 m, below the
     controller's ~min_confidence, so the controller would lose the can at its stop point;
     judged against the red side of a can seen from there, it is sure of it."""
-    from can_seeker.vision.detector import RedCanDetector
-    from can_seeker.vision.report import CanModel, can_report, fallback_pose
-    camera = CameraSpec(320, 240, 45.0, CameraMount(0.33, 34.6))
-    pose, detector = fallback_pose(0.33, 34.6), RedCanDetector()
-    with World(URDF, camera, renderer='tiny', can_texture='textured') as world:
-        for range_m in (0.25, 0.3, 0.4):
-            world.place_can(0.12 + range_m + 0.033, 0.0)
-            world.step()
-            report = can_report(detector.detect(world.render('bgr8')).candidates, 320, 240,
-                                pose, camera.intrinsics, CanModel())
-            assert report.confidence > 0.8, (range_m, report.confidence)
-            assert report.range_m == pytest.approx(range_m, rel=0.05)
+    for range_m, report in reports_straight_ahead(0.33, 34.6, 45.0, (0.25, 0.3, 0.4)):
+        assert report.confidence > 0.8, (range_m, report.confidence)
+        assert report.range_m == pytest.approx(range_m, rel=0.05)

@@ -13,7 +13,7 @@ from can_seeker.control.behaviours.approach import dead_band
 from can_seeker.control.behaviours.base import Result
 from can_seeker.control.controller import PARAMS, Controller
 from can_seeker.control.reasons import Kind, Then, reason
-from can_seeker.control.sighting import (CameraFloorPose, Sighting, camera_floor_pose,
+from can_seeker.control.sighting import (Sighting, camera_floor_pose,
                                          detection_problem, detection_shows_can,
                                          sighting_from_detection)
 from can_seeker.control.supervisor import State
@@ -48,14 +48,14 @@ def run(controller, sighting, start_s, duration_s):
 # Geometry ------------------------------------------------------------------------------------
 
 def test_sighting_straight_ahead_gap_is_range_minus_camera_setback():
-    camera = CameraFloorPose(0.12, 0.0, 0.0)
+    camera = Pose2D(0.12, 0.0, 0.0)
     sighting = sighting_from_detection(True, 0.5, 0.0, camera, 0.165, 0.033)
     assert sighting.gap_m == pytest.approx(0.5 + 0.12 - 0.165)
     assert sighting.bearing_rad == pytest.approx(0.0)
 
 
 def test_sighting_off_axis_uses_can_centre_seen_from_base_link():
-    camera = CameraFloorPose(0.12, 0.0, 0.0)
+    camera = Pose2D(0.12, 0.0, 0.0)
     bearing = math.radians(20.0)
     sighting = sighting_from_detection(True, 1.0, bearing, camera, 0.165, 0.033)
     centre = (0.12 + 1.033 * math.cos(bearing), 1.033 * math.sin(bearing))
@@ -65,7 +65,7 @@ def test_sighting_off_axis_uses_can_centre_seen_from_base_link():
 
 
 def test_sighting_without_range_keeps_the_side():
-    sighting = sighting_from_detection(True, math.nan, -0.3, CameraFloorPose(0.12, 0.0, 0.0),
+    sighting = sighting_from_detection(True, math.nan, -0.3, Pose2D(0.12, 0.0, 0.0),
                                        0.165, 0.033)
     assert not sighting.has_range
     assert sighting.bearing_rad == pytest.approx(-0.3)
@@ -74,7 +74,7 @@ def test_sighting_without_range_keeps_the_side():
 @pytest.mark.parametrize('found, range_m, bearing', [
     (False, 1.0, 0.0), (True, 1.0, math.nan), (True, -0.2, 0.0), (True, math.inf, 0.0)])
 def test_no_sighting_from_empty_or_malformed_detection(found, range_m, bearing):
-    assert sighting_from_detection(found, range_m, bearing, CameraFloorPose(0.12, 0.0, 0.0),
+    assert sighting_from_detection(found, range_m, bearing, Pose2D(0.12, 0.0, 0.0),
                                    0.165, 0.033) is None
 
 

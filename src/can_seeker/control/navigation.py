@@ -34,7 +34,8 @@ as the map changes, and a robot turning to each in turn would reach neither."""
 
 @dataclass(frozen=True)
 class Pose2D:
-    """base_link in odom: position (m) and heading (rad)."""
+    """A pose on the floor plane: position (m) and heading (rad) in its parent frame (base_link
+    in odom; the camera in base_link)."""
 
     x: float
     y: float

@@ -7,15 +7,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from can_seeker.camera_geometry import CameraPose
-
-
-@dataclass(frozen=True)
-class CameraFloorPose:
-    """Camera position (m) and viewing heading (rad) on the floor plane of base_link."""
-
-    x: float
-    y: float
-    yaw: float
+from can_seeker.control.navigation import Pose2D
 
 
 @dataclass(frozen=True)
@@ -37,9 +29,9 @@ class Sighting:
         return math.isfinite(self.gap_m)
 
 
-def camera_floor_pose(pose: CameraPose) -> CameraFloorPose:
+def camera_floor_pose(pose: CameraPose) -> Pose2D:
     """The floor-plane part of a camera pose in base_link: where it stands and where it looks."""
-    return CameraFloorPose(float(pose.position[0]), float(pose.position[1]), pose.heading_rad)
+    return Pose2D(float(pose.position[0]), float(pose.position[1]), pose.heading_rad)
 
 
 def detection_problem(found: bool, range_m: float, bearing_rad: float) -> Optional[str]:
@@ -64,7 +56,7 @@ def detection_shows_can(found: bool, confidence: float, min_confidence: float) -
 
 
 def sighting_from_detection(found: bool, range_m: float, bearing_rad: float,
-                            camera: CameraFloorPose,
+                            camera: Pose2D,
                             robot_radius: float, can_radius: float,
                             confidence: float = 1.0) -> Optional[Sighting]:
     """The red object of one detection relative to base_link, or None when it shows none.

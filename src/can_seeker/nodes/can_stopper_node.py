@@ -41,7 +41,7 @@ from visualization_msgs.msg import MarkerArray
 from can_seeker.camera_geometry import intrinsics_from_k, yaw_from_quaternion
 from can_seeker.control.controller import PARAMS, Controller
 from can_seeker.control.input_freshness import problems_text
-from can_seeker.control.sighting import (CameraFloorPose, camera_floor_pose, detection_problem,
+from can_seeker.control.sighting import (camera_floor_pose, detection_problem,
                                          sighting_from_detection)
 from can_seeker.control.frame_inputs import FrameInputs
 from can_seeker.control.navigation import Pose2D, camera_view
@@ -268,7 +268,7 @@ class CanStopperNode:
         """The floor pose of camera ``frame_id`` at ``pose`` (from TF) in ~base_frame, else
         from ~camera_x."""
         if pose is None:
-            return CameraFloorPose(self.params.camera_x, 0.0, 0.0)
+            return Pose2D(self.params.camera_x, 0.0, 0.0)
         floor_pose = camera_floor_pose(pose)
         if frame_id not in self.camera_pose_logged:
             self.camera_pose_logged.add(frame_id)
