@@ -3,15 +3,16 @@
 Each node's ``~params`` are one tuple of :class:`~can_seeker.params.Param`; shared declarations
 (the TF frames, the camera mount, the detector, the floor model...) are module-level tuples named
 ``*PARAMS`` that the nodes' tuples take their entries from. The page has a summary of the counts,
-a table per node (:func:`~can_seeker.params.markdown_table`) and which declarations each node
-draws from, so a parameter added or changed in the code shows up here when it is regenerated.
+a table per node (:func:`~can_seeker.params.markdown_table`; the parameters of a private
+sub-namespace such as ``~realism/`` in a table of their own below it) and which declarations
+each node draws from, so a parameter added or changed in the code shows up here when it is regenerated.
 """
 import ast
 import importlib
 import pathlib
 from typing import List, Sequence, Tuple
 
-from can_seeker.params import Param, markdown_table
+from can_seeker.params import Param, by_namespace, markdown_table
 
 Declaration = Tuple[str, Sequence[Param]]
 """(a name: a node's, or ``module.NAME`` of a shared tuple, and its parameters)."""
@@ -77,8 +78,13 @@ def parameter_reference(nodes: Sequence[Declaration], groups: Sequence[Declarati
         sum(spec.safer is not None for _, params in nodes for spec in params)))
     for name, params in nodes:
         lines += ['', '## %s' % name, '',
-                  '%d parameters, declared in %s.' % (len(params), _sources(params, groups)), '',
-                  markdown_table(params)]
+                  '%d parameters, declared in %s.' % (len(params), _sources(params, groups))]
+        for namespace, group in by_namespace(params):
+            if namespace:
+                lines += ['', '### `~%s/`' % namespace, '',
+                          '%d parameters in the private namespace `~%s/`.'
+                          % (len(group), namespace)]
+            lines += ['', markdown_table(group)]
     lines += ['', '## Declarations', '',
               'The module-level tuples of parameters in the pure modules, and the nodes that '
               'read the parameters declared there (not in a smaller tuple it takes in).', '',

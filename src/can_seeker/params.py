@@ -4,19 +4,26 @@ Every node lists its parameters once as a tuple of :class:`Param` in its pure mo
 reads them with :func:`read_params`, the launch files mirror the defaults as ``<arg>`` and the
 table of docs/parameters.md is printed by :func:`markdown_table` (unit tests keep all three in
 step).
+A name may hold ``/``: ``~realism/preset`` is the parameter ``preset`` of the private
+sub-namespace ``realism`` (as ROS drivers group a sensor's settings); it is read as
+``config.realism.preset``. A name is either a value or a namespace, never both (ROS cannot hold
+both).
 A bad value (wrong type, NaN, out of range, not a choice) is reported and replaced by the
 default, so a typo in a launch file never takes a node down, except for a safety bound (a speed
 or acceleration limit, a clearance, a watchdog timeout; one with a declared ``safer`` side): no
 default is safe in place of what the user asked for (a crawl must not become full speed), so
 :func:`read_params` refuses the start.
 """
+import difflib
 import math
 import re
 from dataclasses import dataclass
 from types import SimpleNamespace
-from typing import Any, Callable, Optional, Sequence, Tuple
+from typing import Any, Callable, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 SAFE_SIDES = ('lower', 'higher')
+NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*')
+"""A parameter name: words of letters, digits and _, a ``/`` between a namespace and a name."""
 
 
 class UnsafeParamError(ValueError):
@@ -41,10 +48,19 @@ class Param:
     safer: Optional[str] = None
 
     def __post_init__(self):
+        if not NAME.fullmatch(self.name):
+            raise ValueError('~%s: a name is words of letters, digits and _, separated by / '
+                             '(a namespace)' % (self.name,))
         if self.safer is not None and (self.safer not in SAFE_SIDES
                                        or type(self.default) not in (int, float)):
             raise ValueError('~%s: safer must be one of %s, on a number'
                              % (self.name, ', '.join(SAFE_SIDES)))
+
+    @property
+    def namespace(self) -> str:
+        """The private sub-namespace the parameter is in (``realism`` of ``realism/preset``),
+        '' at the top."""
+        return self.name.rpartition('/')[0]
 
     @property
     def description(self) -> str:
@@ -108,12 +124,83 @@ def read_params(specs: Sequence[Param], get_param: Callable[[str, Any], Any],
             values[spec.name] = spec.default
     if refused:
         raise UnsafeParamError('invalid safety bounds, not starting: ' + '; '.join(refused))
-    return SimpleNamespace(**values)
+    return nested(values)
 
 
-def defaults(specs: Sequence[Param]) -> SimpleNamespace:
-    """The default of every parameter in ``specs``, by name (for tools that mirror a node)."""
-    return SimpleNamespace(**{spec.name: spec.default for spec in specs})
+def nested(values: Mapping[str, Any]) -> SimpleNamespace:
+    """``values`` by name as attributes, a namespace's as a namespace of its own:
+    ``{'seed': 3, 'realism/preset': 'harsh'}`` -> ``.seed``, ``.realism.preset``. ValueError
+    for a name that is both a value and a namespace."""
+    for name in values:
+        parts = name.split('/')
+        for depth in range(1, len(parts)):
+            if '/'.join(parts[:depth]) in values:
+                raise ValueError('~%s is a value and a namespace' % '/'.join(parts[:depth]))
+    tree = {}
+    for name, value in values.items():
+        *namespaces, leaf = name.split('/')
+        branch = tree
+        for part in namespaces:
+            branch = branch.setdefault(part, {})
+        branch[leaf] = value
+
+    def namespace(branch):
+        return SimpleNamespace(**{key: namespace(value) if isinstance(value, dict) else value
+                                  for key, value in branch.items()})
+    return namespace(tree)
+
+
+def defaults(specs: Sequence[Param], overrides: Optional[Mapping[str, Any]] = None
+             ) -> SimpleNamespace:
+    """The default of every parameter in ``specs``, by name as :func:`read_params` gives them
+    (for tools that mirror a node), with ``overrides`` (full names: ``realism/preset``) put in
+    as they are; ValueError for an override no spec declares."""
+    values = {spec.name: spec.default for spec in specs}
+    for name, value in (overrides or {}).items():
+        if name not in values:
+            raise ValueError(unknown_param_message(name, specs))
+        values[name] = value
+    return nested(values)
+
+
+def unknown_param_message(name: str, specs: Sequence[Param], prefix: str = '~'
+                          ) -> Optional[str]:
+    """None when ``name`` (without the ``~``) is a parameter of ``specs``; else why it is not
+    read, with the declared name it likely means: the one of the same last word (a parameter
+    that moved into a namespace), else the closest spelling. A namespace given a value lists
+    the parameters it holds. Names are shown after ``prefix`` (``sim/`` for a tool's
+    ``NODE/PARAM``)."""
+    names = [spec.name for spec in specs]
+    if name in names:
+        return None
+    inside = [prefix + other for other in names if other.startswith(name + '/')]
+    if inside:
+        more = ', ... (%d in all)' % len(inside) if len(inside) > 3 else ''
+        return '%s%s is a namespace, not a parameter: it holds %s%s' % (
+            prefix, name, ', '.join(inside[:3]), more)
+    leaf = name.rpartition('/')[2]
+    likely = ([other for other in names if other.rpartition('/')[2] == leaf]
+              or difflib.get_close_matches(name, names, n=1))
+    if not likely:
+        return '%s%s is not a parameter' % (prefix, name)
+    return '%s%s is not a parameter; did you mean %s?' % (
+        prefix, name, ' or '.join(prefix + other for other in likely))
+
+
+def unknown_param_messages(specs: Sequence[Param], names: Iterable[str]) -> List[str]:
+    """:func:`unknown_param_message` of every name in ``names`` (the private parameters a
+    node finds set, without the ``~``) that ``specs`` does not declare, by name."""
+    return [message for message in (unknown_param_message(name, specs)
+                                    for name in sorted(set(names))) if message]
+
+
+def by_namespace(specs: Sequence[Param]) -> List[Tuple[str, List[Param]]]:
+    """(namespace, its parameters in order) of ``specs``: the top ('') first, then each
+    namespace in the order it first appears (the reference's tables)."""
+    groups = {'': []}
+    for spec in specs:
+        groups.setdefault(spec.namespace, []).append(spec)
+    return [(namespace, group) for namespace, group in groups.items() if group]
 
 
 def launch_value(value) -> str:

@@ -21,7 +21,7 @@ def test_equal_settings_in_any_order_are_one_system():
 def test_another_setting_or_run_is_another_system():
     base = SystemSpec.of(LAUNCH_ARGS, {}, 90.0)
     others = [SystemSpec.of(dict(LAUNCH_ARGS, width=640), {}, 90.0),
-              SystemSpec.of(LAUNCH_ARGS, {'/sim/camera_read_noise': 4}, 90.0),
+              SystemSpec.of(LAUNCH_ARGS, {'/sim/realism/camera_read_noise': 4}, 90.0),
               SystemSpec.of(LAUNCH_ARGS, {}, 60.0),
               SystemSpec.of(LAUNCH_ARGS, {}, 90.0, run=1),
               SystemSpec.of(LAUNCH_ARGS, {}, 90.0, wide_kernels=False)]

@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 import pytest
 
 from can_seeker.docs_reference import declared_groups, parameter_reference
-from can_seeker.params import launch_value
+from can_seeker.params import by_namespace, launch_value
 from can_seeker.tools.docs import node_params
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -50,8 +50,14 @@ def test_launch_args_mirror_the_declared_defaults(script_name, params):
             assert (arg.get('doc') or '').strip(), where + ' arg has no doc='
 
 
+def reference_order(params):
+    """``params`` in the order the reference lists them: the top first, then each namespace's
+    table."""
+    return [spec for _, group in by_namespace(params) for spec in group]
+
+
 def reference_section(script_name):
-    """The rows of the reference's section of that node."""
+    """The rows of the reference's section of that node (its namespaces' tables too)."""
     sections = re.split(r'^## ', REFERENCE.read_text(), flags=re.MULTILINE)
     section = next(text for text in sections if text.startswith(script_name + '\n'))
     return [line for line in section.splitlines() if line.startswith('| `~')]
@@ -67,7 +73,7 @@ def test_the_reference_is_what_the_code_declares_now():
 def test_the_reference_documents_every_parameter(script_name, params):
     rows = reference_section(script_name)
     assert len(rows) == len(params)
-    for spec, row in zip(params, rows):
+    for spec, row in zip(reference_order(params), rows):
         default = launch_value(spec.default) or '""'
         assert row.startswith('| `~%s` | %s | `%s` |' % (spec.name, type(spec.default).__name__,
                                                          default)), row
@@ -76,7 +82,8 @@ def test_the_reference_documents_every_parameter(script_name, params):
 @pytest.mark.parametrize('script_name,params', NODES, ids=[name for name, _ in NODES])
 def test_safety_bounds_say_so_in_the_reference_and_launch_file(script_name, params):
     """The reference row and the node's own launch file show a safety bound's safe side."""
-    rows = dict(zip((spec.name for spec in params), reference_section(script_name)))
+    rows = dict(zip((spec.name for spec in reference_order(params)),
+                    reference_section(script_name)))
     for spec in params:
         safe_side = rows[spec.name].split(' | ')[5]
         assert safe_side == (spec.safer or ''), '%s ~%s' % (script_name, spec.name)

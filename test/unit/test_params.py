@@ -3,8 +3,9 @@ import math
 
 import pytest
 
-from can_seeker.params import (Param, UnsafeParamError, defaults, launch_value, markdown_table,
-                               range_text, read_params, unit_of)
+from can_seeker.params import (Param, UnsafeParamError, by_namespace, defaults, launch_value,
+                               markdown_table, nested, range_text, read_params,
+                               unknown_param_message, unknown_param_messages, unit_of)
 
 SPECS = (
     Param('rate', 20.0, 'loop rate (Hz)', minimum=0.1, maximum=1000.0),
@@ -130,3 +131,72 @@ def test_the_safe_side_is_documented():
 def test_a_safe_side_needs_a_number_and_a_direction(kwargs):
     with pytest.raises(ValueError):
         Param(**kwargs)
+
+
+NAMESPACED = (
+    Param('seed', 0, 'random seed', minimum=0),
+    Param('lens/model', 'pinhole', 'lens model', choices=('pinhole', 'fisheye')),
+    Param('lens/k1', -1.0, 'distortion k1; -1: the model\'s', minimum=-1.0, maximum=1.0),
+    Param('light/kelvin', 6500.0, 'colour temperature (K)', minimum=1000.0),
+)
+
+
+def test_a_namespaced_parameter_is_read_by_its_full_name_into_a_namespace_of_its_own():
+    given = {'~lens/model': 'fisheye', '~lens/k1': 'bent', '~seed': 4}
+    asked, warnings = [], []
+
+    def get_param(name, default):
+        asked.append(name)
+        return given.get(name, default)
+    values = read_params(NAMESPACED, get_param, warnings.append)
+    assert asked == ['~seed', '~lens/model', '~lens/k1', '~light/kelvin']
+    assert (values.seed, values.lens.model, values.lens.k1, values.light.kelvin) \
+        == (4, 'fisheye', -1.0, 6500.0)
+    assert warnings == ["parameter ~lens/k1: expected a number, got 'bent'; using the default -1.0"]
+
+
+def test_defaults_take_overrides_by_full_name_and_refuse_an_undeclared_one():
+    values = defaults(NAMESPACED, {'lens/k1': -0.25, 'seed': 9})
+    assert (values.seed, values.lens.model, values.lens.k1) == (9, 'pinhole', -0.25)
+    assert defaults(NAMESPACED).lens.k1 == -1.0           # a fresh namespace every time
+    with pytest.raises(ValueError, match=r'~k1 is not a parameter; did you mean ~lens/k1\?'):
+        defaults(NAMESPACED, {'k1': 0.1})
+
+
+def test_a_name_cannot_be_a_value_and_a_namespace():
+    with pytest.raises(ValueError, match='~lens is a value and a namespace'):
+        nested({'lens': 'pinhole', 'lens/k1': 0.1})
+    with pytest.raises(ValueError, match='~lens is a value and a namespace'):
+        read_params(NAMESPACED + (Param('lens', 'x', 'the lens'),), lambda name, default: default,
+                    print)
+
+
+@pytest.mark.parametrize('name', ['', 'lens/', '/lens', 'lens//k1', '~lens', 'lens k1', '1lens'])
+def test_a_name_is_words_separated_by_slashes(name):
+    with pytest.raises(ValueError):
+        Param(name, 1.0, 'd')
+
+
+def test_an_unknown_name_says_which_declared_one_it_likely_means():
+    assert unknown_param_message('lens/k1', NAMESPACED) is None
+    assert unknown_param_message('k1', NAMESPACED) == \
+        '~k1 is not a parameter; did you mean ~lens/k1?'
+    assert unknown_param_message('lens/modle', NAMESPACED) == \
+        '~lens/modle is not a parameter; did you mean ~lens/model?'
+    assert unknown_param_message('lens', NAMESPACED) == \
+        '~lens is a namespace, not a parameter: it holds ~lens/model, ~lens/k1'
+    assert unknown_param_message('zoom', NAMESPACED, 'camera/') == \
+        'camera/zoom is not a parameter'
+    many = tuple(Param('n/p%d' % index, 0, 'd') for index in range(5))
+    assert unknown_param_message('n', many) == \
+        '~n is a namespace, not a parameter: it holds ~n/p0, ~n/p1, ~n/p2, ... (5 in all)'
+    assert unknown_param_messages(NAMESPACED, ['seed', 'lens/k1', 'kelvin', 'kelvin']) == [
+        '~kelvin is not a parameter; did you mean ~light/kelvin?']
+
+
+def test_the_reference_tables_are_the_top_then_each_namespace():
+    groups = by_namespace(NAMESPACED + (Param('rate', 1.0, 'rate (Hz)'),))
+    assert [(namespace, [spec.name for spec in group]) for namespace, group in groups] == [
+        ('', ['seed', 'rate']), ('lens', ['lens/model', 'lens/k1']), ('light', ['light/kelvin'])]
+    assert '| `~lens/k1` | float | `-1.0` | -1.0 .. 1.0 |' in markdown_table(NAMESPACED)
+    assert unit_of(NAMESPACED[3]) == 'K' and NAMESPACED[1].namespace == 'lens'

@@ -2,12 +2,12 @@
 a seed reproduces and that is zero at ideal, actuation, lidar noise, presets and overrides."""
 import math
 from dataclasses import replace
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
+from can_seeker.params import defaults
 from can_seeker.sim.realism import (PRESETS, REALISM_PARAMS, Actuation, CameraModel,
                                     FrameDelivery, Realism, RealismSpec, WheelOdometry,
                                     distortion_maps, kelvin_rgb, noisy_ranges, realism_spec,
@@ -236,8 +236,9 @@ def test_knobs_override_the_preset_and_minus_one_keeps_it():
     assert spec.camera_read_noise == 7.0
     assert spec.odom_noise == PRESETS['realistic'].odom_noise
     assert spec.camera_jpeg_quality == 0
-    config = SimpleNamespace(**{param.name: param.default for param in REALISM_PARAMS})
-    assert spec_from_config(config) == PRESETS['ideal']
+    assert spec_from_config(defaults(REALISM_PARAMS)) == PRESETS['ideal']
+    harsh = defaults(REALISM_PARAMS, {'realism/preset': 'harsh', 'realism/scan_noise_m': 0.5})
+    assert spec_from_config(harsh) == realism_spec('harsh', {'scan_noise_m': 0.5})
 
 
 def test_barrel_distortion_is_a_negative_k1_that_overrides_the_preset():
@@ -266,14 +267,13 @@ def test_trial_key_names_the_world_seed_and_can_place():
 
 
 def config_with(**overrides):
-    values = {spec.name: spec.default for spec in PARAMS}
-    values.update(overrides)
-    return checked_config(SimpleNamespace(**values), print)
+    return checked_config(defaults(PARAMS, overrides), print)
 
 
 def test_simulation_publishes_late_frames_with_their_capture_stamp_and_drifting_odometry():
-    config = config_with(width=64, height=48, renderer='tiny', realism='realistic',
-                         camera_latency_s=0.05, camera_drop_rate=0.0)
+    config = config_with(width=64, height=48, renderer='tiny', **{
+        'realism/preset': 'realistic', 'realism/camera_latency_s': 0.05,
+        'realism/camera_drop_rate': 0.0})
     with World(urdf_path(), camera_spec(config), renderer='tiny',
                scene=config.scene) as world:
         simulation = Simulation.from_config(world, config)

@@ -4,7 +4,6 @@ builds the URDF, the simulator's configuration and a pybullet robot that drives 
 import math
 import pathlib
 import xml.etree.ElementTree as ET
-from types import SimpleNamespace
 
 import pytest
 import yaml
@@ -13,6 +12,7 @@ from can_seeker.camera_geometry import camera_pose_from_mount, floor_point, \
     intrinsics_from_vertical_fov
 from can_seeker.camera_mount import CAMERA_FORWARD_M, CameraMount
 from can_seeker.control.controller import PARAMS as CONTROL_PARAMS
+from can_seeker.params import defaults
 from can_seeker.robot_model import robot_urdf
 from can_seeker.robot_profile import (ProfileError, camera_mount, check_node_sections,
                                       launch_arguments, load_profile, node_params,
@@ -187,9 +187,9 @@ def test_a_level_camera_still_sees_the_floor_below_the_horizon(name):
 
 
 def test_the_simulator_takes_the_camera_and_lidar_from_the_profile():
-    values = dict(SIM, robot='turtlebot3_burger')
     warnings = []
-    config = checked_config(SimpleNamespace(**values), warnings.append, (), [str(ROBOTS)])
+    config = checked_config(defaults(SIM_PARAMS, {'robot': 'turtlebot3_burger'}),
+                            warnings.append, (), [str(ROBOTS)])
     assert not warnings
     spec = camera_spec(config)
     assert spec.fov_deg == 48.8
@@ -201,11 +201,11 @@ def test_the_simulator_takes_the_camera_and_lidar_from_the_profile():
 
 
 def test_a_profile_without_lidar_turns_the_simulated_lidar_off_and_a_bad_one_is_warned():
-    config = checked_config(SimpleNamespace(**dict(SIM, robot='create2')), [].append, (),
+    config = checked_config(defaults(SIM_PARAMS, {'robot': 'create2'}), [].append, (),
                             [str(ROBOTS)])
     assert config.scan_rate == 0.0
     warnings = []
-    config = checked_config(SimpleNamespace(**dict(SIM, robot='nosuch')), warnings.append, (),
+    config = checked_config(defaults(SIM_PARAMS, {'robot': 'nosuch'}), warnings.append, (),
                             [str(ROBOTS)])
     assert config.profile is None and config.scan_rate == SIM['scan_rate']
     assert any('parameter ~robot: no robot profile' in text for text in warnings)
@@ -219,8 +219,8 @@ def test_a_slow_robot_gets_a_longer_time_limit():
 
 def test_the_simulated_waffle_pi_stands_level_and_drives_at_the_commanded_speed():
     profile = load('turtlebot3_waffle_pi')
-    values = dict(SIM, robot='turtlebot3_waffle_pi')
-    config = checked_config(SimpleNamespace(**values), [].append, (), [str(ROBOTS)])
+    config = checked_config(defaults(SIM_PARAMS, {'robot': 'turtlebot3_waffle_pi'}), [].append,
+                            (), [str(ROBOTS)])
     with World(str(URDF), camera_spec(config), renderer='tiny', profile=profile) as world:
         for _ in range(120):
             world.step()

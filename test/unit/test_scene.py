@@ -1,7 +1,6 @@
 """The world description: rooms, random obstacles and cans, world files, free space, sight."""
 import math
 import pathlib
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -9,6 +8,7 @@ import yaml
 
 from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import CameraMount
+from can_seeker.params import defaults
 from can_seeker.sim.appearance import random_appearance
 from can_seeker.sim.lidar import LidarSpec
 from can_seeker.sim.scene import (CAN_CLEARANCE_M, CAN_RADIUS_M, OBSTACLE_RGBA, ROBOT_RADIUS_M,
@@ -21,10 +21,9 @@ WORLDS = pathlib.Path(__file__).resolve().parents[2] / 'worlds'
 
 
 def config_with(**overrides):
-    values = {spec.name: spec.default for spec in PARAMS}
-    values.update(overrides)
     warnings = []
-    return checked_config(SimpleNamespace(**values), warnings.append, [str(WORLDS)]), warnings
+    return checked_config(defaults(PARAMS, overrides), warnings.append,
+                          [str(WORLDS)]), warnings
 
 
 def test_box_and_cylinder_distances():

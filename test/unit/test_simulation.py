@@ -1,12 +1,11 @@
 """Simulator parameters, can placement, step scheduling, command timeout and services' logic."""
 import math
 import pathlib
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from can_seeker.params import read_params
+from can_seeker.params import defaults, read_params
 from can_seeker.sim.scene import CAN_HEIGHT_M, CAN_RADIUS_M, Solid
 from can_seeker.sim.simulation import (MIN_CAN_CLEARANCE_M, PARAMS, RateSchedule, Simulation,
                                        camera_spec, checked_config, mount_for, parse_rgba,
@@ -19,19 +18,17 @@ URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_ro
 
 
 def config_with(**overrides):
-    values = {spec.name: spec.default for spec in PARAMS}
-    values.update(overrides)
     warnings = []
-    return checked_config(SimpleNamespace(**values), warnings.append), warnings
+    return checked_config(defaults(PARAMS, overrides), warnings.append), warnings
 
 
 def test_defaults_are_the_documented_robot():
-    defaults = {spec.name: spec.default for spec in PARAMS}
-    assert (defaults['width'], defaults['height'], defaults['fov_deg']) == (320, 240, 45.0)
-    assert (defaults['camera_rate'], defaults['physics_rate']) == (15.0, 240.0)
-    assert (defaults['camera_height'], defaults['camera_pitch_deg']) == (0.25, 25.0)
-    assert defaults['cmd_timeout'] == 0.5
-    assert defaults['gui'] is False
+    declared = {spec.name: spec.default for spec in PARAMS}
+    assert (declared['width'], declared['height'], declared['fov_deg']) == (320, 240, 45.0)
+    assert (declared['camera_rate'], declared['physics_rate']) == (15.0, 240.0)
+    assert (declared['camera_height'], declared['camera_pitch_deg']) == (0.25, 25.0)
+    assert declared['cmd_timeout'] == 0.5
+    assert declared['gui'] is False
     for spec in PARAMS:
         assert spec.coerce(spec.default) == spec.default
         assert spec.doc

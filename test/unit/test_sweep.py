@@ -8,24 +8,40 @@ from can_seeker.evaluation.sweep import (override_arg, parse_override, parse_swe
 
 
 def test_overrides_name_a_node_parameter():
-    assert parse_override('sim/camera_latency_s=0.1') == ('/sim/camera_latency_s', '0.1')
+    assert parse_override('sim/realism/camera_latency_s=0.1') == (
+        '/sim/realism/camera_latency_s', '0.1')
     assert parse_override('/can_stopper/max_linear = 0.2') == ('/can_stopper/max_linear', '0.2')
-    for bad in ('camera_latency_s=0.1', 'sim/camera_latency_s', 'sim/=1', 'sim/x='):
+    for bad in ('camera_latency_s=0.1', 'sim/realism/camera_latency_s', 'sim/=1', 'sim/x='):
         with pytest.raises(ValueError):
             parse_override(bad)
     with pytest.raises(argparse.ArgumentTypeError):
         override_arg('nonsense')
 
 
+def test_a_simulator_parameter_it_does_not_declare_is_refused_naming_the_one_meant():
+    """A knob of the old flat spelling would be set and never read: refused up front."""
+    with pytest.raises(argparse.ArgumentTypeError,
+                       match=r'sim/camera_latency_s is not a parameter; did you mean '
+                             r'sim/realism/camera_latency_s\?'):
+        override_arg('sim/camera_latency_s=0.1')
+    with pytest.raises(ValueError, match='sim/realism is a namespace, not a parameter: it '
+                                         'holds sim/realism/preset, '):
+        parse_override('sim/realism=harsh')
+    with pytest.raises(ValueError, match='did you mean sim/cmd_timeout'):
+        parse_sweep('sim/cmd_timeuot=0.5,1')
+    assert parse_override('sim/realism/preset=harsh') == ('/sim/realism/preset', 'harsh')
+    assert parse_override('image_converter/anything=1') == ('/image_converter/anything', '1')
+
+
 def test_a_grid_is_every_combination_first_sweep_slowest():
-    sweeps = [parse_sweep('sim/a=1,2'), parse_sweep('can_stopper/b=x,y,z')]
+    sweeps = [parse_sweep('sim/seed=1,2'), parse_sweep('can_stopper/b=x,y,z')]
     grid = sweep_grid(sweeps)
     assert len(grid) == 6
-    assert grid[0] == {'/sim/a': '1', '/can_stopper/b': 'x'}
-    assert grid[3] == {'/sim/a': '2', '/can_stopper/b': 'x'}
-    assert setting_label(grid[5]) == 'a=2 b=z'
+    assert grid[0] == {'/sim/seed': '1', '/can_stopper/b': 'x'}
+    assert grid[3] == {'/sim/seed': '2', '/can_stopper/b': 'x'}
+    assert setting_label(grid[5]) == 'seed=2 b=z'
     with pytest.raises(ValueError):
-        parse_sweep('sim/a=1,,2')
+        parse_sweep('sim/seed=1,,2')
 
 
 def summary(successes, gap_m, contacts, cpu_s=None):

@@ -31,6 +31,7 @@ from typing import Callable, Iterator, List, Optional, Tuple
 import numpy as np
 
 from can_seeker.camera_geometry import camera_pose_from_mount
+from can_seeker.params import defaults
 from can_seeker.sim.lidar import LidarSpec
 from can_seeker.sim.scene import CAN_RADIUS_M
 from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_config
@@ -211,13 +212,12 @@ def bench_config(seed: int, realism: str, randomize_appearance: bool,
                  randomize_mount: bool, frame_drops: bool = False) -> SimpleNamespace:
     """The simulator configuration of a room trial of ``seed``, without frame latency, and
     without frame drops unless ``frame_drops`` (then the preset's)."""
-    values = {spec.name: spec.default for spec in PARAMS}
-    values.update(world='room', seed=seed, realism=realism,
-                  randomize_appearance=randomize_appearance, randomize_mount=randomize_mount,
-                  camera_latency_s=0.0, scan_rate=0.0, lockstep=False)
+    values = {'world': 'room', 'seed': seed, 'realism/preset': realism,
+              'randomize_appearance': randomize_appearance, 'randomize_mount': randomize_mount,
+              'realism/camera_latency_s': 0.0, 'scan_rate': 0.0, 'lockstep': False}
     if not frame_drops:
-        values['camera_drop_rate'] = 0.0
-    return checked_config(SimpleNamespace(**values), lambda text: None)
+        values['realism/camera_drop_rate'] = 0.0
+    return checked_config(defaults(PARAMS, values), lambda text: None)
 
 
 def look_text(scene) -> str:

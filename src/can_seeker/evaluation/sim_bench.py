@@ -6,8 +6,8 @@ node does per step except publishing.
 """
 import statistics
 import time
-from types import SimpleNamespace
 
+from can_seeker.params import defaults
 from can_seeker.sim.simulation import PARAMS, Simulation, camera_spec, checked_config
 from can_seeker.sim.world import World
 
@@ -21,11 +21,10 @@ def run_case(urdf_path, renderer, width, height, camera_rate_hz, duration_s, wor
              can_texture='plain'):
     """Run one camera configuration in ``world`` ('empty' or 'room', seed 0, lidar at its
     default rate) for ``duration_s`` of sim time; returns its measurements."""
-    defaults = {spec.name: spec.default for spec in PARAMS}
-    defaults.update(width=width, height=height, camera_rate=camera_rate_hz, renderer=renderer,
-                    can_placement='fixed', can_x=1.0, can_y=0.2, world=world,
-                    can_texture=can_texture)
-    config = checked_config(SimpleNamespace(**defaults), print)
+    config = checked_config(defaults(PARAMS, dict(
+        width=width, height=height, camera_rate=camera_rate_hz, renderer=renderer,
+        can_placement='fixed', can_x=1.0, can_y=0.2, world=world, can_texture=can_texture)),
+        print)
     with World(urdf_path, camera_spec(config), config.physics_rate, renderer,
                can_rgba=config.can_color, scene=config.scene,
                can_texture=config.can_texture) as world:

@@ -6,17 +6,29 @@ import argparse
 import itertools
 from typing import Dict, List, Sequence, Tuple
 
+from can_seeker.params import unknown_param_message
+from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
+
 Setting = Dict[str, str]
 """Parameter name (``/node/param``) -> value as roslaunch reads it."""
+CHECKED_NODES = {'sim': SIM_PARAMS}
+"""Nodes whose overrides must name a declared parameter: one the node does not read would be
+set and silently ignored, for a whole evaluation."""
 
 
 def parse_override(text: str) -> Tuple[str, str]:
-    """``NODE/PARAM=VALUE`` -> ('/NODE/PARAM', 'VALUE'); ValueError if it is not of that form."""
+    """``NODE/PARAM=VALUE`` -> ('/NODE/PARAM', 'VALUE'); ValueError if it is not of that form,
+    or names a parameter a node of CHECKED_NODES does not declare."""
     name, separator, value = text.partition('=')
     name = name.strip().strip('/')
     if not separator or '/' not in name or not value.strip() or not all(name.split('/')):
-        raise ValueError('expected NODE/PARAM=VALUE (e.g. sim/camera_read_noise=4), got %r'
-                         % (text,))
+        raise ValueError('expected NODE/PARAM=VALUE (e.g. sim/realism/camera_read_noise=4), '
+                         'got %r' % (text,))
+    node, _, param = name.partition('/')
+    if node in CHECKED_NODES:
+        problem = unknown_param_message(param, CHECKED_NODES[node], node + '/')
+        if problem:
+            raise ValueError(problem)
     return '/' + name, value.strip()
 
 

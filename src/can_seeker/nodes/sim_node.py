@@ -3,8 +3,9 @@ world, a room with obstacles or a world file) with a soda can.
 
 Publishes /clock (every physics step, or at ~clock_rate and with every other message),
 /camera/image_raw + /camera/camera_info (same stamp: the sim time the frame was captured; with
-~realism, published later and as a real camera sees it), /scan (the lidar), /odom and TF
-odom->base_link (the true pose at ~realism ideal, else wheel odometry that drifts), static TF
+~realism/preset and its knobs, published later and as a real camera sees it), /scan (the
+lidar), /odom and TF odom->base_link (the true pose at the ~realism/preset ideal, else wheel
+odometry that drifts), static TF
 base_link->camera_link->camera_optical_frame from the actual camera parameters and
 base_link->base_scan (each frame name a parameter: ``~base_frame``, ``~odom_frame``,
 ``~camera_frame``, ``~optical_frame``, ``~lidar_frame``), and ground truth in ``~world_frame``:
@@ -38,7 +39,7 @@ from can_seeker.sim.lockstep import LockstepGate, header_stamp_s
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.gui.display_check import X11_PROBE, display_problem
 from can_seeker.health import WARN, InputMonitor
-from can_seeker.params import parse_topics, read_params
+from can_seeker.params import parse_topics, read_params, unknown_param_messages
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import camera_info, odometry, transform_stamped
 from can_seeker.ros.paths import robots_dir, urdf_path, worlds_dir
@@ -76,12 +77,20 @@ def _publisher(name, data_class, queue_size):
         return rospy.Publisher(name, data_class, queue_size=queue_size)
 
 
+def _private_param_names():
+    """The names (without ``~``) of every parameter set in this node's private namespace."""
+    prefix = rospy.get_name() + '/'
+    return [name[len(prefix):] for name in rospy.get_param_names() if name.startswith(prefix)]
+
+
 class SimNode:
     """Glue between ROS and a :class:`Simulation`; everything pybullet runs in :meth:`spin`."""
 
     def __init__(self):
         config = checked_config(read_params(PARAMS, rospy.get_param, rospy.logwarn),
                                 rospy.logwarn, [worlds_dir()], [robots_dir()])
+        for message in unknown_param_messages(PARAMS, _private_param_names()):
+            rospy.logwarn('sim: not read: %s', message)
         if config.gui:
             problem = display_problem(X11_PROBE)
             if problem:
@@ -103,7 +112,7 @@ class SimNode:
         self._gate = LockstepGate(config.lockstep_timeout) if config.lockstep else None
         self._camera_info = camera_info(spec.intrinsics, self._sim.realism.distortion,
                                         config.optical_frame)
-        rospy.loginfo('sim: realism %s, robot %s', config.realism,
+        rospy.loginfo('sim: realism %s, robot %s', config.realism.preset,
                       config.profile.name if config.profile else 'built-in')
 
         # Ground truth is small and judged message by message: a short outgoing queue drops

@@ -2,8 +2,9 @@
 white balance, vignetting, motion blur, JPEG, latency and frame drops; wheel odometry that
 drifts; command latency and a motor deadband; lidar range noise and dropouts.
 
-One ``~realism`` preset (``ideal``, ``realistic``, ``harsh``) sets every knob; each knob is also
-a parameter of its own that overrides the preset (-1 keeps the preset's value). Every random
+One preset, ``~realism/preset`` (``ideal``, ``realistic``, ``harsh``), sets every knob; each knob
+is also a parameter of its own in the same namespace, ``~realism/<knob>``, that overrides the
+preset (-1 keeps the preset's value). Every random
 draw comes from generators seeded per trial (:meth:`Realism.new_trial`), one stream per sensor,
 so a trial in lockstep is the same whatever ran before it, and a camera setting does not change
 the odometry's noise. At ``ideal`` every model is the identity: images, ranges and commands pass
@@ -141,19 +142,22 @@ _KNOB_DOCS = {
 }
 
 KEEP_PRESET = -1.0
-"""A knob's parameter at this value keeps the ~realism preset's value."""
+"""A knob's parameter at this value keeps the ~realism/preset value."""
 SIGNED_KNOBS = frozenset(('camera_k1', 'camera_k2'))
 """Knobs whose negative values mean something (barrel distortion): only KEEP_PRESET itself
 keeps the preset, and they range over (-1, 1]; any other knob below 0 keeps the preset."""
 
+REALISM_NAMESPACE = 'realism'
+"""The simulator's private namespace of the preset and the knobs: ``~realism/preset``,
+``~realism/camera_read_noise``, ..."""
 REALISM_PARAMS = (
-    Param('realism', 'ideal', 'sensor and actuator realism preset: ideal (perfect camera, '
-          'odometry and motors), realistic (a small base with a webcam) or harsh; each '
-          'camera_/light_/odom_/cmd_/motor_/scan_ knob below overrides it',
-          choices=REALISM_PRESETS),
+    Param(REALISM_NAMESPACE + '/preset', 'ideal', 'sensor and actuator realism preset: ideal '
+          '(perfect camera, odometry and motors), realistic (a small base with a webcam) or '
+          'harsh; the knobs beside it in ~realism/ override it', choices=REALISM_PRESETS),
 ) + tuple(
-    Param(knob.name, KEEP_PRESET if knob.type is float else int(KEEP_PRESET),
-          '%s; -1: the ~realism preset\'s value' % _KNOB_DOCS[knob.name][0],
+    Param('%s/%s' % (REALISM_NAMESPACE, knob.name),
+          KEEP_PRESET if knob.type is float else int(KEEP_PRESET),
+          '%s; -1: the ~realism/preset value' % _KNOB_DOCS[knob.name][0],
           KEEP_PRESET, _KNOB_DOCS[knob.name][1])
     for knob in fields(RealismSpec))
 
@@ -172,8 +176,10 @@ def realism_spec(preset: str, overrides: Optional[dict] = None) -> RealismSpec:
 
 
 def spec_from_config(config) -> RealismSpec:
-    """The :class:`RealismSpec` of a simulator configuration (``~realism`` and the knobs)."""
-    return realism_spec(config.realism, {knob.name: getattr(config, knob.name)
+    """The :class:`RealismSpec` of a simulator configuration (its ``realism`` namespace: the
+    preset and the knobs)."""
+    realism = config.realism
+    return realism_spec(realism.preset, {knob.name: getattr(realism, knob.name)
                                          for knob in fields(RealismSpec)})
 
 

@@ -66,11 +66,13 @@ def parse_args(argv):
                         help='sim time allowed to reach STOPPED (s)')
     parser.add_argument('--real-time-factor', type=float, default=1.0,
                         help='sim speed; 0 runs as fast as possible')
-    parser.add_argument('--realism', default=SIM.realism, choices=REALISM_PRESETS,
-                        help='sensor and actuator realism of the simulator')
+    parser.add_argument('--realism', default=SIM.realism.preset, choices=REALISM_PRESETS,
+                        help='sensor and actuator realism preset of the simulator '
+                        '(sim/realism/preset)')
     parser.add_argument('--param', action='append', default=[], type=override_arg,
                         metavar='NODE/PARAM=VALUE',
-                        help='set a node parameter, e.g. sim/camera_latency_s=0.1 (repeatable)')
+                        help='set a node parameter, e.g. sim/realism/camera_latency_s=0.1 '
+                        '(repeatable)')
     return parser.parse_args(argv)
 
 

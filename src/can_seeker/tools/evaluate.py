@@ -93,11 +93,13 @@ def parse_args(argv):
                         help='draw the camera mount of each trial from its seed: height '
                         '0.15-0.35 m, pitch 15-35 deg, instead of --camera-height and '
                         '--camera-pitch')
-    parser.add_argument('--realism', default=SIM.realism, choices=REALISM_PRESETS,
-                        help='sensor and actuator realism of the simulator')
+    parser.add_argument('--realism', default=SIM.realism.preset, choices=REALISM_PRESETS,
+                        help='sensor and actuator realism preset of the simulator '
+                        '(sim/realism/preset)')
     parser.add_argument('--param', action='append', default=[], type=override_arg,
                         metavar='NODE/PARAM=VALUE',
-                        help='set a node parameter, e.g. sim/camera_latency_s=0.1 (repeatable)')
+                        help='set a node parameter, e.g. sim/realism/camera_latency_s=0.1 '
+                        '(repeatable)')
     parser.add_argument('--sweep', action='append', default=[], type=_sweep,
                         metavar='NODE/PARAM=V1,V2,...',
                         help='evaluate the same seeds at every value (repeatable: every '
