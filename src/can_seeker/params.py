@@ -21,6 +21,8 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Any, Callable, Iterable, List, Mapping, Optional, Sequence, Tuple
 
+from can_seeker.health import OK, WARN, Health
+
 SAFE_SIDES = ('lower', 'higher')
 NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*')
 """A parameter name: words of letters, digits and _, a ``/`` between a namespace and a name."""
@@ -180,18 +182,29 @@ def unknown_param_message(name: str, specs: Sequence[Param], prefix: str = '~'
             prefix, name, ', '.join(inside[:3]), more)
     leaf = name.rpartition('/')[2]
     likely = ([other for other in names if other.rpartition('/')[2] == leaf]
-              or difflib.get_close_matches(name, names, n=1))
+              or difflib.get_close_matches(name, names, n=1, cutoff=0.8))
     if not likely:
         return '%s%s is not a parameter' % (prefix, name)
     return '%s%s is not a parameter; did you mean %s?' % (
         prefix, name, ' or '.join(prefix + other for other in likely))
 
 
-def unknown_param_messages(specs: Sequence[Param], names: Iterable[str]) -> List[str]:
-    """:func:`unknown_param_message` of every name in ``names`` (the private parameters a
-    node finds set, without the ``~``) that ``specs`` does not declare, by name."""
-    return [message for message in (unknown_param_message(name, specs)
-                                    for name in sorted(set(names))) if message]
+def unread_params(specs: Sequence[Param], names: Iterable[str]) -> List[Tuple[str, str]]:
+    """(name, :func:`unknown_param_message`) of every name in ``names`` (the private
+    parameters a node finds set, without the ``~``) that ``specs`` does not declare, by
+    name."""
+    return [(name, message) for name, message in ((name, unknown_param_message(name, specs))
+                                                  for name in sorted(set(names))) if message]
+
+
+def unread_health(unread: Sequence[Tuple[str, str]]) -> Health:
+    """The status of a node's parameters: WARN while any set in its private namespace is not
+    read (a setting that would otherwise be ignored without a word), each with what it likely
+    means; OK when every one is read."""
+    if not unread:
+        return Health(OK, 'every parameter set is read')
+    return Health(WARN, 'not read: %s' % ', '.join('~' + name for name, _ in unread),
+                  tuple(('~' + name, message) for name, message in unread))
 
 
 def by_namespace(specs: Sequence[Param]) -> List[Tuple[str, List[Param]]]:

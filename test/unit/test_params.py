@@ -3,9 +3,10 @@ import math
 
 import pytest
 
+from can_seeker.health import OK, WARN
 from can_seeker.params import (Param, UnsafeParamError, by_namespace, defaults, launch_value,
                                markdown_table, nested, range_text, read_params,
-                               unknown_param_message, unknown_param_messages, unit_of)
+                               unknown_param_message, unit_of, unread_health, unread_params)
 
 SPECS = (
     Param('rate', 20.0, 'loop rate (Hz)', minimum=0.1, maximum=1000.0),
@@ -190,8 +191,17 @@ def test_an_unknown_name_says_which_declared_one_it_likely_means():
     many = tuple(Param('n/p%d' % index, 0, 'd') for index in range(5))
     assert unknown_param_message('n', many) == \
         '~n is a namespace, not a parameter: it holds ~n/p0, ~n/p1, ~n/p2, ... (5 in all)'
-    assert unknown_param_messages(NAMESPACED, ['seed', 'lens/k1', 'kelvin', 'kelvin']) == [
-        '~kelvin is not a parameter; did you mean ~light/kelvin?']
+
+
+
+def test_parameters_set_but_not_read_are_a_warning_naming_each():
+    unread = unread_params(NAMESPACED, ['seed', 'lens/k1', 'kelvin', 'kelvin', 'lens/zoom'])
+    assert unread == [('kelvin', '~kelvin is not a parameter; did you mean ~light/kelvin?'),
+                      ('lens/zoom', '~lens/zoom is not a parameter')]
+    health = unread_health(unread)
+    assert (health.level, health.message) == (WARN, 'not read: ~kelvin, ~lens/zoom')
+    assert health.values == (('~kelvin', unread[0][1]), ('~lens/zoom', unread[1][1]))
+    assert unread_health(unread_params(NAMESPACED, ['seed', 'lens/model'])).level == OK
 
 
 def test_the_reference_tables_are_the_top_then_each_namespace():

@@ -13,7 +13,7 @@ base_link->base_scan (each frame name a parameter: ``~base_frame``, ``~odom_fram
 /sim/contacts (whether and what the robot touched at any physics step since the previous message),
 ``bumper`` (std_msgs/Bool: whether the front half of the robot's body, ahead of base_link, touched
 anything but the floor since the previous message: a bumper's contact sensing) and /sim/world (latched: the scene in the world-file format), and /diagnostics (sim time and pace,
-lockstep time-outs, the age and rate of the commands).
+lockstep time-outs, the age and rate of the commands, parameters set but not read).
 Subscribes /cmd_vel, or in lockstep cmd_vel_stamped. Services /sim/reset, /sim/reset_trial,
 /sim/place_can, /sim/new_world, /sim/pause_physics and /sim/unpause_physics run on the simulation
 thread between physics steps (in lockstep, after the current frame was answered).
@@ -39,7 +39,7 @@ from can_seeker.sim.lockstep import LockstepGate, header_stamp_s
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.gui.display_check import X11_PROBE, display_problem
 from can_seeker.health import WARN, InputMonitor
-from can_seeker.params import parse_topics, read_params, unknown_param_messages
+from can_seeker.params import parse_topics, read_params, unread_health, unread_params
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import camera_info, odometry, transform_stamped
 from can_seeker.ros.paths import robots_dir, urdf_path, worlds_dir
@@ -89,7 +89,8 @@ class SimNode:
     def __init__(self):
         config = checked_config(read_params(PARAMS, rospy.get_param, rospy.logwarn),
                                 rospy.logwarn, [worlds_dir()], [robots_dir()])
-        for message in unknown_param_messages(PARAMS, _private_param_names()):
+        self._unread_params = unread_params(PARAMS, _private_param_names())
+        for _, message in self._unread_params:
             rospy.logwarn('sim: not read: %s', message)
         if config.gui:
             problem = display_problem(X11_PROBE)
@@ -158,6 +159,7 @@ class SimNode:
         self._diagnostics = NodeDiagnostics()
         self._diagnostics.add('simulation', self._health)
         self._diagnostics.add('commands', lambda: self._commands.health(self._sim.time_s))
+        self._diagnostics.add('parameters', lambda: unread_health(self._unread_params))
         rospy.Service('~reset', Empty, self._on_reset)
         rospy.Service('~reset_trial', ResetTrial, self._on_reset_trial)
         rospy.Service('~place_can', PlaceCan, self._on_place_can)
