@@ -5,7 +5,8 @@ Each node's ``~params`` are one tuple of :class:`~can_seeker.params.Param`; shar
 ``*PARAMS`` that the nodes' tuples take their entries from. The page has a summary of the counts,
 a table per node (:func:`~can_seeker.params.markdown_table`; the parameters of a private
 sub-namespace such as ``~realism/`` in a table of their own below it) and which declarations
-each node draws from, so a parameter added or changed in the code shows up here when it is regenerated.
+each node draws from, so a parameter added or changed in the code shows up here when it is
+regenerated.
 """
 import ast
 import importlib

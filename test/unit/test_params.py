@@ -153,7 +153,8 @@ def test_a_namespaced_parameter_is_read_by_its_full_name_into_a_namespace_of_its
     assert asked == ['~seed', '~lens/model', '~lens/k1', '~light/kelvin']
     assert (values.seed, values.lens.model, values.lens.k1, values.light.kelvin) \
         == (4, 'fisheye', -1.0, 6500.0)
-    assert warnings == ["parameter ~lens/k1: expected a number, got 'bent'; using the default -1.0"]
+    assert warnings == [
+        "parameter ~lens/k1: expected a number, got 'bent'; using the default -1.0"]
 
 
 def test_defaults_take_overrides_by_full_name_and_refuse_an_undeclared_one():

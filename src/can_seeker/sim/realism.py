@@ -4,11 +4,11 @@ drifts; command latency and a motor deadband; lidar range noise and dropouts.
 
 One preset, ``~realism/preset`` (``ideal``, ``realistic``, ``harsh``), sets every knob; each knob
 is also a parameter of its own in the same namespace, ``~realism/<knob>``, that overrides the
-preset (-1 keeps the preset's value). Every random
-draw comes from generators seeded per trial (:meth:`Realism.new_trial`), one stream per sensor,
-so a trial in lockstep is the same whatever ran before it, and a camera setting does not change
-the odometry's noise. At ``ideal`` every model is the identity: images, ranges and commands pass
-through unchanged and the odometry is the true pose.
+preset (-1 keeps the preset's value). Every random draw comes from generators seeded per trial
+(:meth:`Realism.new_trial`), one stream per sensor, so a trial in lockstep is the same whatever
+ran before it, and a camera setting does not change the odometry's noise. At ``ideal`` every
+model is the identity: images, ranges and commands pass through unchanged and the odometry is
+the true pose.
 """
 import math
 from collections import deque
