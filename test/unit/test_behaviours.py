@@ -201,6 +201,22 @@ def test_lost_times_out_into_search():
     assert lost.expired(1.1 + DEFAULTS['lost_timeout']) is Event.LOST_TIMEOUT
 
 
+def test_lost_keeps_heading_for_the_cans_place_while_it_gets_nearer():
+    """A long way back to where the can was seen is no reason to give it up; standing is."""
+    controller, p = parts()
+    ranged(controller, 3.0)
+    controller.supervisor.handle(Event.CAN_OUT_OF_RANGE, 0.0)
+    lost = p.supervisor.behaviours[State.LOST]
+    timeout_s = DEFAULTS['lost_timeout']
+    for step in range(4):
+        now_s = step * 0.8 * timeout_s
+        controller.observe_pose(Pose2D(0.3 * step, 0.0, 0.0), now_s)
+        assert lost.expired(now_s) is None
+    standing_since_s = 3 * 0.8 * timeout_s
+    assert lost.expired(standing_since_s + timeout_s) is None
+    assert lost.expired(standing_since_s + timeout_s + 0.1) is Event.LOST_TIMEOUT
+
+
 def test_lost_without_navigation_turns_toward_the_side_the_can_left():
     controller, p = parts()
     ranged(controller, 1.0, -10.0)

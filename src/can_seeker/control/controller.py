@@ -86,8 +86,8 @@ PARAMS = (
           1.0, 90.0),
     Param('search_angular', 0.8, 'turn rate in SEARCH and LOST (rad/s)', 0.05, 3.0,
           safer='lower'),
-    Param('lost_timeout', 5.0, 'LOST becomes SEARCH after this long without the can (s)',
-          0.0, 120.0),
+    Param('lost_timeout', 5.0, 'LOST becomes SEARCH when it has been this long without the '
+          "can and without getting nearer the can's last place (s)", 0.0, 120.0),
     Param('vanish_timeout', 1.5, 'STOPPED becomes LOST when the can has not been seen with a '
           'range for this long (s); APPROACH stops only where the can was seen with a range '
           'this recently, or where it is below the camera\'s view', 0.0, 120.0),

@@ -34,7 +34,7 @@ class Event(enum.Enum):
     SETTLED = 'within both tolerances and at rest'
     ARRIVED_UNSEEN = ('at rest where the can was ranged last, which the camera would see but '
                       'has not ranged for ~vanish_timeout')
-    LOST_TIMEOUT = '~lost_timeout without the can'
+    LOST_TIMEOUT = "~lost_timeout without getting nearer the can's last place"
     CAN_NOT_THERE = 'facing where the can was seen last, it is not there'
     SEARCHED_ALL_ROUND = 'a full turn without the can, exploring allowed'
     GOAL_REACHED = 'at the exploration goal'

@@ -1,6 +1,6 @@
 """LOST: back toward where the can was seen last (a grid path), facing it once within reach,
-else turning toward the side it left; SEARCH after ~lost_timeout, or at once when facing its
-place shows it is not there."""
+else turning toward the side it left; SEARCH once ~lost_timeout passed without getting nearer
+that place, or at once when facing its place shows it is not there."""
 import math
 from typing import Optional
 
@@ -19,19 +19,34 @@ NOT_THERE_S = 1.0
 there (moved, or a misplaced sighting put it there), so SEARCH at once instead of standing
 until ~lost_timeout."""
 
+PROGRESS_M = 0.1
+"""LOST keeps heading for the can's last place while each ~lost_timeout brings the robot at
+least this much nearer to it than it has been (m): a long way round an obstacle is no reason to
+give the can up, standing or circling is. Exploration would not bring the robot back: the floor
+about a can it saw counts as covered."""
+
 
 class Lost(Behaviour):
-    """Remembers since when it is LOST and since when it faces the can's last place."""
+    """Remembers since when it last got nearer the can's last place (and how near), and since
+    when it faces that place."""
 
     def start(self, now_s: float) -> None:
-        self.lost_since_s = now_s
+        self.nearer_since_s = now_s
+        self.nearest_m: Optional[float] = None
         self.facing_since_s: Optional[float] = None
 
     def on_detection(self, ranged: bool, now_s: float) -> Optional[Event]:
         return Event.CAN_RANGED if ranged else None
 
     def expired(self, now_s: float) -> Optional[Event]:
-        if elapsed_s(now_s, self.lost_since_s) > self.config.lost_timeout:
+        can_xy = self.context.tracker.can_xy
+        if can_xy is not None:
+            pose = self.context.navigator.pose
+            distance_m = math.hypot(can_xy[0] - pose.x, can_xy[1] - pose.y)
+            if self.nearest_m is None or distance_m < self.nearest_m - PROGRESS_M:
+                self.nearest_m = distance_m
+                self.nearer_since_s = now_s
+        if elapsed_s(now_s, self.nearer_since_s) > self.config.lost_timeout:
             return Event.LOST_TIMEOUT
         return None
 
