@@ -9,6 +9,8 @@ from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_v
 from can_seeker.camera_mount import CameraMount
 from can_seeker.control import avoidance, planner
 from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.tuning import controller_settings
+from can_seeker.params import defaults
 from can_seeker.control.reasons import Because, Kind
 from can_seeker.control.recoveries.stall import APPROACH_STALL_BEYOND_MEMORY_S
 from can_seeker.control.sighting import Sighting
@@ -18,7 +20,7 @@ from can_seeker.control.navigation import Navigator, Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from kinematic_world import CAMERA_VIEW, ROBOT_RADIUS, World, run
 
-DEFAULTS = {spec.name: spec.default for spec in PARAMS}
+DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 
 
 def make_controller(**overrides):
