@@ -8,11 +8,11 @@ both into the one settings object every part of the controller reads.
 """
 from types import SimpleNamespace
 
-CAN_RADIUS_M = 0.033
-"""Radius of the can (a 330 ml soda can, the simulator's can): the near surface a detection
-ranges lies this far in front of the can's centre."""
-CAN_HEIGHT_M = 0.122
-"""Height of the can: the floor nearer than a can's top shows in the camera's view."""
+from can_seeker.can_size import CAN_DIAMETER_M, CAN_HEIGHT_M
+
+CAN_RADIUS_M = CAN_DIAMETER_M / 2.0
+"""Radius of the can: the near surface a detection ranges lies this far in front of the can's
+centre (CAN_HEIGHT_M: the floor nearer than a can's top shows in the camera's view)."""
 MIN_CONFIDENCE = 0.5
 """Act only on detections whose confidence that the red object is the can is at least this
 (image_converter's size and shape checks give a can at its range about 1, other red objects
