@@ -216,7 +216,7 @@ def test_a_contact_stays_in_the_map_whatever_scans_see_there():
     feed(controller, 0.0, 0.5)
     grid = controller.navigator.grid
     grid.add_contact((0.5, 0.0))
-    feed(controller, 0.5, 30.0)   # free rays through it, longer than ~obstacle_memory
+    feed(controller, 0.5, 30.0)   # free rays through it, longer than OBSTACLE_MEMORY_S
     cell = grid.cell_of(0.5, 0.0)
     assert grid.occupied()[cell] and grid.evidence[cell] < 0
     points, _ = controller.navigator.obstacles_base()

@@ -703,7 +703,7 @@ def test_a_can_unseen_where_the_camera_would_see_its_base_is_lost():
 def test_an_approach_on_a_carried_can_the_camera_would_see_ends_lost_not_stopped():
     """Heading for a stop point aside an obstacle, the approach goes on with where the can was
     ranged last while the camera does not see it. Arrived there with the can in the camera's
-    view (not below it) and unseen for longer than ~vanish_timeout, the can is not where it was
+    view (not below it) and unseen for longer than VANISH_TIMEOUT_S, the can is not where it was
     ranged (one frame ranged a half-hidden can far off): LOST, never STOPPED."""
     controller = make_controller()
     controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5, 0.2))

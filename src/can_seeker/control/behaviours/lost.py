@@ -1,5 +1,5 @@
 """LOST: back toward where the can was seen last (a grid path), facing it once within reach,
-else turning toward the side it left; SEARCH after ~lost_timeout, or at once when facing its
+else turning toward the side it left; SEARCH after LOST_TIMEOUT_S, or at once when facing its
 place shows it is not there."""
 import math
 from typing import Optional
@@ -15,9 +15,9 @@ from can_seeker.control.supervisor import Event
 
 NOT_THERE_S = 1.0
 """LOST within reach of where the can was seen last, facing it (within
-~reapproach_bearing_deg, its base in view) without seeing it for this long (s): it is not
+REAPPROACH_BEARING_DEG, its base in view) without seeing it for this long (s): it is not
 there (moved, or a misplaced sighting put it there), so SEARCH at once instead of standing
-until ~lost_timeout."""
+until LOST_TIMEOUT_S."""
 
 
 class Lost(Behaviour):
