@@ -1,9 +1,9 @@
 """The controller's internal heuristics: fixed values, not parameters.
 
-These are what the control law, the can tracker, the map and the planner need to work, chosen
-with the simulator's closed loops and left alone by a robot owner or a room: a robot's own
-figures (size, speed and acceleration limits, frames, topics, sensors) are the can_stopper
-parameters (:data:`can_seeker.control.controller.PARAMS`). :func:`controller_settings` joins
+These are what the control law, the can tracker, the map and the planner need to work, and
+nothing a robot owner or a room calls for: a robot's own figures (size, speed and acceleration
+limits, frames, topics, sensors) are the can_stopper parameters
+(:data:`can_seeker.control.controller.PARAMS`). :func:`controller_settings` joins
 both into the one settings object every part of the controller reads.
 """
 from types import SimpleNamespace
@@ -30,8 +30,9 @@ BEARING_TOLERANCE_DEG = 1.5
 """STOPPED only with the can within this bearing of straight ahead; turning aims at half of
 it."""
 REAPPROACH_DISTANCE_M = 0.05
-"""STOPPED drives again when the gap differs from stop_distance by more than this: range noise
-stays well inside it, a pushed can does not."""
+"""STOPPED drives again when the gap differs from stop_distance by more than this: five times
+DISTANCE_TOLERANCE_M, a hysteresis band, so a robot stopped at the edge of the stop band does
+not start again, and a can that moved brings it back."""
 REAPPROACH_BEARING_DEG = 6.0
 """STOPPED turns again when the can's bearing exceeds this."""
 MIN_LINEAR_MPS = 0.03
@@ -46,8 +47,8 @@ TURN_IN_PLACE_DEG = 25.0
 """The robot drives forward only while the bearing (of the can in APPROACH, of the lookahead
 point on grid paths) is within this, at full speed when it is zero."""
 SEARCH_ANGULAR_RADPS = 0.8
-"""Turn rate in SEARCH, LOST and WANDER: slow enough for every frame of a full turn to show
-the can sharp (max_angular still limits it)."""
+"""Turn rate in SEARCH, LOST and WANDER, and of the turns toward unseen floor (max_angular
+still limits it)."""
 LOST_TIMEOUT_S = 5.0
 """LOST becomes SEARCH after this long without the can."""
 VANISH_TIMEOUT_S = 1.5

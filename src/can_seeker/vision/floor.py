@@ -112,8 +112,8 @@ MIN_BIN_FRACTION = 0.004
 its pixels as obstacles: rarer than JPEG noise and shading put on a floor's own pixels."""
 ADAPT_RATE = 0.005
 """Weight of each frame's reference floor pixels in the floor model (per frame; 0 would keep
-the first frame's model): the model follows light that changes over seconds, not an object
-that stands in the reference area for a few frames."""
+the first frame's model): a time constant of 200 frames (13 s at 15 Hz), so the model follows
+a slow change of light, not an object in the reference area for a few frames."""
 REFERENCE_HEIGHT = 0.2
 """Height of the reference trapezoid at the bottom of the image that is assumed to be floor, as
 a fraction of the image height: the floor just in front of the robot, which it drove over or
@@ -151,7 +151,7 @@ chromaticity and the mid tile's brightness (0 = off; needs MIN_CHROMA_FRACTION).
 MAX_VIGNETTING = 0.7
 """Largest lens fall-off the floor model estimates from the images and undoes before
 classifying: the fraction of brightness lost in the image corners (an estimate under 0.05
-leaves the image alone; 0 = off); a wide lens's corners lose about half."""
+leaves the image alone; 0 = off)."""
 MIN_EDGE_CONTRAST = 1.5
 """Obstacle regions whose outline (away from the image border) has a mean colour gradient below
 this are floor shading (vignetting, light fall-off), not objects (grey levels per pixel, after
