@@ -9,12 +9,12 @@ import pytest
 from can_seeker.control.bump_recovery import BACK_OFF_M, BACK_OFF_MPS, BumpRecovery
 from can_seeker.control.controller import PARAMS, Controller
 from can_seeker.control.tuning import controller_settings
-from can_seeker.params import defaults
 from can_seeker.control.reasons import Kind, reason
 from can_seeker.control.sighting import Sighting
 from can_seeker.control.supervisor import State
 from can_seeker.control.navigation import CameraView, Pose2D
 from can_seeker.health import ERROR, OK, WARN
+from can_seeker.params import defaults
 
 DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 DT = 1.0 / DEFAULTS['rate']

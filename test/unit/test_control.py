@@ -13,14 +13,13 @@ from can_seeker.control.behaviours.approach import dead_band
 from can_seeker.control.behaviours.base import Result
 from can_seeker.control.controller import PARAMS, Controller
 from can_seeker.control.tuning import controller_settings
-from can_seeker.params import defaults
 from can_seeker.control.reasons import Kind, Then, reason
 from can_seeker.control.sighting import (Sighting, camera_floor_pose,
                                          detection_problem, detection_shows_can,
                                          sighting_from_detection)
 from can_seeker.control.supervisor import State
 from can_seeker.health import ERROR, OK, WARN
-from can_seeker.params import read_params
+from can_seeker.params import defaults, read_params
 
 DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 STOP = DEFAULTS['stop_distance']

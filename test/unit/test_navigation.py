@@ -10,7 +10,6 @@ from can_seeker.camera_mount import CameraMount
 from can_seeker.control import avoidance, planner
 from can_seeker.control.controller import PARAMS, Controller
 from can_seeker.control.tuning import controller_settings
-from can_seeker.params import defaults
 from can_seeker.control.reasons import Because, Kind
 from can_seeker.control.recoveries.stall import APPROACH_STALL_BEYOND_MEMORY_S
 from can_seeker.control.sighting import Sighting
@@ -19,6 +18,7 @@ from can_seeker.control.grid_map import GridMap
 from can_seeker.control.navigation import Navigator, Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from kinematic_world import CAMERA_VIEW, ROBOT_RADIUS, World, run
+from can_seeker.params import defaults
 
 DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 
