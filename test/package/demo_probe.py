@@ -21,6 +21,7 @@ from std_msgs.msg import String
 import can_seeker
 import can_seeker.msg
 from can_seeker.control.controller import PARAMS as CONTROLLER_PARAMS
+from can_seeker.control.tuning import CAN_RADIUS_M
 from can_seeker.msg import CanDetection
 from can_seeker.params import defaults
 
@@ -60,7 +61,7 @@ class Watcher:
     def gap_m(self):
         """True gap between the robot front and the can's near surface."""
         centres_m = math.hypot(self.can_xy[0] - self.robot_xy[0], self.can_xy[1] - self.robot_xy[1])
-        return centres_m - CONTROLLER.robot_radius - CONTROLLER.can_radius
+        return centres_m - CONTROLLER.robot_radius - CAN_RADIUS_M
 
 
 def node_command_lines(master):

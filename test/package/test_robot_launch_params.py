@@ -22,7 +22,6 @@ def test_the_profile_wins_over_the_node_defaults():
     assert params['/can_stopper/robot_radius'] == pytest.approx(0.124)
     assert params['/obstacle_scan/robot_radius'] == pytest.approx(0.124)
     assert params['/can_stopper/max_linear'] == pytest.approx(0.22)
-    assert params['/can_stopper/explore_linear'] == pytest.approx(0.22)
     assert params['/can_stopper/camera_x'] == pytest.approx(0.076)
     assert params['/image_converter/camera_pitch_deg'] == 0.0
     assert params['/obstacle_scan/camera_height'] == pytest.approx(0.102)

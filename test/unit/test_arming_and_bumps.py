@@ -8,13 +8,15 @@ import pytest
 
 from can_seeker.control.bump_recovery import BACK_OFF_M, BACK_OFF_MPS, BumpRecovery
 from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.tuning import controller_settings
 from can_seeker.control.reasons import Kind, reason
 from can_seeker.control.sighting import Sighting
 from can_seeker.control.supervisor import State
 from can_seeker.control.navigation import CameraView, Pose2D
 from can_seeker.health import ERROR, OK, WARN
+from can_seeker.params import defaults
 
-DEFAULTS = {spec.name: spec.default for spec in PARAMS}
+DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 DT = 1.0 / DEFAULTS['rate']
 ROBOT_RADIUS = DEFAULTS['robot_radius']
 CLEAR_SCAN = (2.0 * np.stack((np.cos(np.radians(np.arange(360))),
@@ -214,7 +216,7 @@ def test_a_contact_stays_in_the_map_whatever_scans_see_there():
     feed(controller, 0.0, 0.5)
     grid = controller.navigator.grid
     grid.add_contact((0.5, 0.0))
-    feed(controller, 0.5, 30.0)   # free rays through it, longer than ~obstacle_memory
+    feed(controller, 0.5, 30.0)   # free rays through it, longer than OBSTACLE_MEMORY_S
     cell = grid.cell_of(0.5, 0.0)
     assert grid.occupied()[cell] and grid.evidence[cell] < 0
     points, _ = controller.navigator.obstacles_base()

@@ -7,12 +7,14 @@ import numpy as np
 import pytest
 
 from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.tuning import controller_settings
 from can_seeker.control.navigation import Pose2D
 from can_seeker.control.reasons import Because, Consequence, Kind
 from can_seeker.control.sighting import Sighting
 from can_seeker.control.supervisor import TRANSITIONS, Event, State
+from can_seeker.params import defaults
 
-DEFAULTS = {spec.name: spec.default for spec in PARAMS}
+DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 STOP = DEFAULTS['stop_distance']
 
 

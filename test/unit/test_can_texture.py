@@ -132,7 +132,7 @@ def test_a_steep_camera_is_sure_of_the_can_close_below_it():
     """A camera 0.33 m up pitched 35 deg down sees the can 0.25-0.4 m away from above: the
     lid cuts into the red side's top and the lettering notches its sides (solidity 0.85-0.92).
     Judged as a silhouette seen from the side that scores 0.37 at 0.25 m, below the
-    controller's ~min_confidence, so the controller would lose the can at its stop point;
+    controller's MIN_CONFIDENCE, so the controller would lose the can at its stop point;
     judged against the red side of a can seen from there, it is sure of it."""
     for range_m, report in reports_straight_ahead(0.33, 34.6, 45.0, (0.25, 0.3, 0.4)):
         assert report.confidence > 0.8, (range_m, report.confidence)

@@ -7,10 +7,12 @@ import pytest
 
 from can_seeker.control.can_tracker import CanTracker
 from can_seeker.control.controller import PARAMS
+from can_seeker.control.tuning import controller_settings
 from can_seeker.control.navigation import CameraView, Pose2D
 from can_seeker.control.sighting import Sighting
+from can_seeker.params import defaults
 
-CONFIG = SimpleNamespace(**{spec.name: spec.default for spec in PARAMS})
+CONFIG = controller_settings(defaults(PARAMS))
 REACH_M = CONFIG.robot_radius + CONFIG.can_radius
 
 

@@ -12,15 +12,16 @@ from can_seeker.control.navigation import CameraView, Pose2D, camera_view
 from can_seeker.control.behaviours.approach import dead_band
 from can_seeker.control.behaviours.base import Result
 from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.tuning import controller_settings
 from can_seeker.control.reasons import Kind, Then, reason
 from can_seeker.control.sighting import (Sighting, camera_floor_pose,
                                          detection_problem, detection_shows_can,
                                          sighting_from_detection)
 from can_seeker.control.supervisor import State
 from can_seeker.health import ERROR, OK, WARN
-from can_seeker.params import read_params
+from can_seeker.params import defaults, read_params
 
-DEFAULTS = {spec.name: spec.default for spec in PARAMS}
+DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 STOP = DEFAULTS['stop_distance']
 DT = 1.0 / DEFAULTS['rate']
 
@@ -442,10 +443,9 @@ def read_with(name, value):
 @pytest.mark.parametrize('name,bad', [
     ('max_linear', 0.005), ('max_linear', math.nan), ('max_linear', 'crawl'),
     ('max_reverse', -0.1), ('max_angular', math.inf), ('max_linear_accel', 0.01),
-    ('max_angular_accel', True), ('explore_linear', 0.001), ('search_angular', 0.0),
-    ('detection_timeout', 20.0), ('scan_timeout', math.nan), ('odom_timeout', 'slow'),
-    ('robot_radius', -0.01), ('safety_margin', math.nan), ('stop_distance', 0.0),
-    ('obstacle_memory', 0.5), ('can_exclusion_radius', 2.0), ('unknown_floor_wait', 0.1),
+    ('max_angular_accel', True), ('input_timeout', 20.0), ('input_timeout', math.nan),
+    ('input_timeout', 'slow'), ('robot_radius', -0.01), ('safety_margin', math.nan),
+    ('stop_distance', 0.0),
 ])
 def test_an_invalid_motion_bound_is_refused_never_replaced_by_its_default(name, bad):
     with pytest.raises(ValueError, match=name):
@@ -453,9 +453,9 @@ def test_an_invalid_motion_bound_is_refused_never_replaced_by_its_default(name, 
 
 
 def test_other_invalid_parameters_still_warn_and_use_the_default():
-    values, warnings = read_with('min_confidence', 1.5)
-    assert values.min_confidence == DEFAULTS['min_confidence']
-    assert len(warnings) == 1 and 'min_confidence' in warnings[0]
+    values, warnings = read_with('wander_clearance', 10.0)
+    assert values.wander_clearance == DEFAULTS['wander_clearance']
+    assert len(warnings) == 1 and 'wander_clearance' in warnings[0]
 
 
 def test_backing_up_stops_for_a_remembered_obstacle_behind():
@@ -702,7 +702,7 @@ def test_a_can_unseen_where_the_camera_would_see_its_base_is_lost():
 def test_an_approach_on_a_carried_can_the_camera_would_see_ends_lost_not_stopped():
     """Heading for a stop point aside an obstacle, the approach goes on with where the can was
     ranged last while the camera does not see it. Arrived there with the can in the camera's
-    view (not below it) and unseen for longer than ~vanish_timeout, the can is not where it was
+    view (not below it) and unseen for longer than VANISH_TIMEOUT_S, the can is not where it was
     ranged (one frame ranged a half-hidden can far off): LOST, never STOPPED."""
     controller = make_controller()
     controller.set_camera_view(CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.2, 2.5, 0.2))
@@ -868,3 +868,15 @@ def test_unknown_floor_beside_the_front_backs_a_steep_camera_up_until_the_view_i
     assert 0.3 < -x_m < 0.5
     command, driven_x_m = drive_on_with_the_floor_observed(controller, x_m, now)
     assert driven_x_m > x_m + 0.1 and command[0] > 0.1 and controller.reason is None
+
+
+def test_one_input_timeout_bounds_every_input_camera_info_at_twice_it():
+    settings = controller_settings(read_with('input_timeout', 0.3)[0])
+    assert (settings.detection_timeout, settings.scan_timeout, settings.odom_timeout) == (
+        0.3, 0.3, 0.3)
+    assert settings.camera_info_timeout == pytest.approx(0.6)
+
+
+def test_exploring_cruises_at_its_speed_or_at_a_lower_max_linear():
+    assert controller_settings(read_with('max_linear', 0.4)[0]).explore_linear == 0.3
+    assert controller_settings(read_with('max_linear', 0.22)[0]).explore_linear == 0.22

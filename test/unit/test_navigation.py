@@ -9,6 +9,7 @@ from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_v
 from can_seeker.camera_mount import CameraMount
 from can_seeker.control import avoidance, planner
 from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.tuning import controller_settings
 from can_seeker.control.reasons import Because, Kind
 from can_seeker.control.recoveries.stall import APPROACH_STALL_BEYOND_MEMORY_S
 from can_seeker.control.sighting import Sighting
@@ -17,8 +18,9 @@ from can_seeker.control.grid_map import GridMap
 from can_seeker.control.navigation import Navigator, Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from kinematic_world import CAMERA_VIEW, ROBOT_RADIUS, World, run
+from can_seeker.params import defaults
 
-DEFAULTS = {spec.name: spec.default for spec in PARAMS}
+DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 
 
 def make_controller(**overrides):
@@ -509,7 +511,7 @@ def test_approach_goes_around_an_obstacle_between_robot_and_can():
 
 
 def test_an_approach_that_gets_no_nearer_switches_to_keeping_to_its_path():
-    """APPROACH 2 m from the can, no nearer for ~obstacle_memory + 5 s (cycling between the
+    """APPROACH 2 m from the can, no nearer for OBSTACLE_MEMORY_S + 5 s (cycling between the
     path about a corner and the direct law, or standing): it keeps to a path, and the can
     leaving the view no longer makes it LOST. As long again without getting nearer: back to
     the usual way. Coming 0.2 m nearer starts the count again."""
@@ -609,7 +611,7 @@ def test_a_camera_only_robot_keeps_its_margin_from_obstacles_that_left_its_view(
 
 def test_lost_facing_where_the_can_was_searches_at_once():
     """The can vanishes while the robot approaches it: LOST turns to face where it was, and
-    seeing nothing there it searches within a second or so, not after ~lost_timeout."""
+    seeing nothing there it searches within a second or so, not after LOST_TIMEOUT_S."""
     world = World(3.0, [], (1.2, 0.0))
     controller = make_controller()
     now, _, _, _ = run(controller, world, 30.0, stop_when=lambda c: (
@@ -740,7 +742,7 @@ def test_the_safety_layer_keeps_an_obstacle_out_of_view_until_a_scan_sees_its_pl
 def test_the_safety_layer_forgets_a_phantom_beside_the_robot_in_the_blind_disc():
     """Beside the robot, nearer than the scan's range_min, no ray reaches a remembered
     obstacle and no turn brings it into view: a phantom there (a frame that took a floor tile
-    for an obstacle) would hold the robot for ever, so after ~obstacle_memory in that blind
+    for an obstacle) would hold the robot for ever, so after OBSTACLE_MEMORY_S in that blind
     disc the safety layer lets it go, as it does ahead. The map (and so the planner) keeps it."""
     navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, memory_s=10.0)
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
@@ -830,7 +832,7 @@ def test_the_floor_the_robot_drove_over_is_observed():
 
 def test_unknown_floor_no_turn_can_observe_is_taken_for_floor_after_the_wait():
     """No ray can observe the floor nearer than range_min to the sensor, whichever way the robot
-    turns: unknown floor that has been in that blind disc for ~unknown_floor_wait stops holding
+    turns: unknown floor that has been in that blind disc for UNKNOWN_FLOOR_WAIT_S stops holding
     the robot, so a robot set down where it never looked is not stuck for ever. Unknown floor
     farther out stays unknown until a scan observes it."""
     navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05, unknown_wait_s=5.0)
@@ -856,8 +858,8 @@ def test_unknown_floor_no_turn_can_observe_is_taken_for_floor_after_the_wait():
 def test_unknown_floor_beside_a_remembered_obstacle_is_not_taken_for_floor_by_waiting():
     """A camera saw one face of an obstacle, which now stands beside the robot in the scan's
     blind disc: how far it goes on into the floor nobody observed is unknown, so that floor
-    keeps holding the robot after ~unknown_floor_wait, while unknown floor elsewhere in the
-    disc is taken for floor. Once the obstacle itself is let go (~obstacle_memory in the
+    keeps holding the robot after UNKNOWN_FLOOR_WAIT_S, while unknown floor elsewhere in the
+    disc is taken for floor. Once the obstacle itself is let go (OBSTACLE_MEMORY_S in the
     disc), so is the floor around it."""
     navigator = Navigator(0.1, 4.0, 0.165, 0.15, 0.05, memory_s=15.0, unknown_wait_s=5.0)
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
@@ -924,7 +926,7 @@ def test_straight_free_travel_is_the_free_travel_of_each_heading():
 
 
 def test_within_the_stop_tolerance_the_robot_faces_the_can_instead_of_a_stop_point_aside():
-    """The gap is 7 mm longer than stop_distance (within ~distance_tolerance, beyond half of
+    """The gap is 7 mm longer than stop_distance (within DISTANCE_TOLERANCE_M, beyond half of
     it) and the can is 8 deg to the right, while an obstacle ahead-right holds even a 3 cm drive
     back: the robot turns to face the can and stops, instead of turning 40 deg away to a stop
     point beside the can and back each time the gap's estimate crosses half the tolerance."""

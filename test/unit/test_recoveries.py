@@ -7,6 +7,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from can_seeker.control.controller import PARAMS, Controller
+from can_seeker.control.tuning import controller_settings
 from can_seeker.control.navigation import CameraView, Pose2D
 from can_seeker.control.reasons import Because, Kind, Then
 from can_seeker.control.recoveries.floor import BACK_UP_BEYOND_M, TurnToLook
@@ -15,8 +16,9 @@ from can_seeker.control.recoveries.stall import (APPROACH_STALL_BEYOND_MEMORY_S,
 from can_seeker.control.safety_filter import Verdict
 from can_seeker.control.sighting import Sighting
 from can_seeker.control.supervisor import Event, State
+from can_seeker.params import defaults
 
-DEFAULTS = {spec.name: spec.default for spec in PARAMS}
+DEFAULTS = vars(controller_settings(defaults(PARAMS)))
 STEEP_VIEW = CameraView(0.12, 0.0, 0.0, math.radians(29.0), 0.12, 2.5, 0.23)
 """A camera whose image's bottom row meets the floor 0.23 m ahead of it."""
 

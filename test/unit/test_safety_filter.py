@@ -5,12 +5,14 @@ from types import SimpleNamespace
 import numpy as np
 
 from can_seeker.control.controller import PARAMS
+from can_seeker.control.tuning import controller_settings
 from can_seeker.control.input_freshness import MissingInput
 from can_seeker.control.navigation import Navigator, Pose2D
 from can_seeker.control.reasons import Kind, Reason, Then, _TEXT, reason
 from can_seeker.control.safety_filter import SafetyFilter
+from can_seeker.params import defaults
 
-CONFIG = SimpleNamespace(**{spec.name: spec.default for spec in PARAMS})
+CONFIG = controller_settings(defaults(PARAMS))
 
 
 def safety_with_wall_at(x_m):

@@ -112,8 +112,8 @@ class CanTracker:
     def shows_can(self, sighting: Sighting, can_xy: Optional[Tuple[float, float]],
                   tracking: bool) -> bool:
         """A red object (placing the can at ``can_xy`` in odom, None if unknown) is the can
-        when the detector is ~min_confidence sure; while ``tracking``, also down to
-        ~track_confidence where it was ranged last (within ~track_gate): its silhouette close
+        when the detector is MIN_CONFIDENCE sure; while ``tracking``, also down to
+        TRACK_CONFIDENCE where it was ranged last (within TRACK_GATE_M): its silhouette close
         up varies from frame to frame."""
         config = self.config
         if detection_shows_can(True, sighting.confidence, config.min_confidence):

@@ -45,76 +45,11 @@ PARAMS = (
     Param('explore', True, 'explore the room when a full turn in place did not show the can; '
           'false keeps the robot turning in place to search (it still drives to a can it '
           'sees)'),
-    Param('bumper_topic', '', 'std_msgs/Bool contact sensor (true: the bumper is pressed): '
-          'stop, back off, keep off the contact; empty: no bumper'),
-    Param('camera_info_timeout', 1.0, 'with obstacle sensing, no camera_info for this long: no '
-          'driving forward or back, only turning (s)', 0.05, 10.0, safer='lower'),
-    Param('rate', 20.0, 'rate of the /cmd_vel commands from the control timer (Hz)', 1.0, 200.0),
-    Param('stop_distance', 0.25,
-          'gap between the robot front and the can near surface when stopped (m)', 0.02, 3.0,
-          safer='higher'),
-    Param('distance_tolerance', 0.01,
-          'STOPPED once the gap is within this of stop_distance and the robot is at rest; '
-          'the approach aims at the middle half of the band (m)', 0.001, 0.5),
-    Param('bearing_tolerance_deg', 1.5,
-          'STOPPED only with the can within this bearing of straight ahead; turning aims at '
-          'half of it (deg)', 0.1, 30.0),
-    Param('reapproach_distance', 0.05,
-          'STOPPED drives again when the gap differs from stop_distance by more than this (m)',
-          0.002, 1.0),
-    Param('reapproach_bearing_deg', 6.0,
-          'STOPPED turns again when the can bearing exceeds this (deg)', 0.2, 90.0),
-    Param('max_linear', 0.4, 'forward speed limit (m/s)', 0.01, 2.0, safer='lower'),
-    Param('min_linear', 0.03,
-          'slowest approach speed outside the dead-band, so the robot really arrives (m/s)',
-          0.0, 0.5),
-    Param('max_reverse', 0.1, 'backing-up speed limit: when closer than stop_distance, and '
-          'to see floor below the camera\'s view that keeps the robot from driving (m/s)',
-          0.0, 1.0, safer='lower'),
-    Param('max_angular', 1.2, 'turn rate limit (rad/s)', 0.05, 6.0, safer='lower'),
-    Param('min_angular', 0.08,
-          'slowest corrective turn rate outside the dead-band (rad/s)', 0.0, 1.0),
-    Param('max_linear_accel', 0.5, 'linear acceleration and deceleration limit (m/s^2)',
-          0.05, 5.0, safer='lower'),
-    Param('max_angular_accel', 3.0, 'angular acceleration limit (rad/s^2)', 0.1, 20.0,
-          safer='lower'),
-    Param('linear_gain', 1.5, 'approach speed per metre of gap error (1/s)', 0.05, 10.0),
-    Param('angular_gain', 2.0, 'turn rate per radian of bearing error (1/s)', 0.05, 20.0),
-    Param('turn_in_place_deg', 25.0,
-          'the robot drives forward only while the bearing (of the can in APPROACH, of the '
-          'lookahead point on grid paths) is within this, at full speed when it is zero (deg)',
-          1.0, 90.0),
-    Param('search_angular', 0.8, 'turn rate in SEARCH and LOST (rad/s)', 0.05, 3.0,
-          safer='lower'),
-    Param('lost_timeout', 5.0, 'LOST becomes SEARCH when it has been this long without the '
-          "can and without getting nearer the can's last place (s)", 0.0, 120.0),
-    Param('vanish_timeout', 1.5, 'STOPPED becomes LOST when the can has not been seen with a '
-          'range for this long (s); APPROACH stops only where the can was seen with a range '
-          'this recently, or where it is below the camera\'s view', 0.0, 120.0),
-    Param('lockstep', False, 'answer every detection at once with a command stamped like its '
-          'image (on /cmd_vel and cmd_vel_stamped; for a simulator in lockstep); the timer then '
-          'sends only the zero of a stale detection'),
-    Param('detection_timeout', 0.5,
-          'zero Twist while the newest detection shows an image older than this, by its header '
-          'stamp (by its arrival when stamped later) (s)', 0.05, 10.0, safer='lower'),
-    Param('robot_radius', 0.165, 'radius of the robot body about base_link (m)', 0.0, 2.0,
-          safer='higher'),
-    Param('can_radius', 0.033, 'radius of the can (m)', 0.0, 0.5),
-    Param('can_height', 0.122, 'height of the can, for the floor the camera covers (m)',
-          0.0, 2.0),
-    Param('min_confidence', 0.5,
-          'act only on detections whose confidence that the red object is the can is at least '
-          'this (0-1; 0 = every red object)', 0.0, 1.0),
-    Param('track_confidence', 0.2,
-          'while approaching or stopped at the can, a detection within ~track_gate of where '
-          'the can was ranged counts as the can down to this confidence (0-1; hysteresis: '
-          'close up a label\'s lettering changes the silhouette from frame to frame)', 0.0, 1.0),
-    Param('track_gate', 0.3, 'how far from the tracked can a weaker detection may place it '
-          '(m; 0 = no hysteresis)', 0.0, 5.0),
-    FALLBACK_CAMERA_X,
     Param('behaviour', 'seek',
           'seek: search, explore, approach the can and stop; wander: drive around and turn '
           'away from obstacles, no can', choices=('seek', 'wander')),
+    Param('bumper_topic', '', 'std_msgs/Bool contact sensor (true: the bumper is pressed): '
+          'stop, back off, keep off the contact; empty: no bumper'),
     Param('scan_topics', 'camera_scan',
           'sensor_msgs/LaserScan topics of obstacles, separated by spaces (camera scan, lidar, '
           'both: what any of them sees is an obstacle; any frame in TF); empty: no obstacle '
@@ -122,44 +57,39 @@ PARAMS = (
     Param('odom_topic', 'odom', 'nav_msgs/Odometry of the robot in ~odom_frame'),
     BASE_FRAME,
     ODOM_FRAME,
-    Param('scan_timeout', 0.5, 'no scan for this long: no driving forward or back, only '
-          'turning (s)', 0.05, 10.0, safer='lower'),
-    Param('odom_timeout', 0.5, 'no odometry for this long: no exploring or path driving (s)',
-          0.05, 10.0, safer='lower'),
-    Param('grid_resolution', 0.1, 'cell size of the odom-frame obstacle and coverage grid (m)',
-          0.02, 1.0),
-    Param('map_size', 20.0, 'side of the square grid about the odom origin (m)', 2.0, 200.0),
-    Param('coverage_range', 2.5,
-          'farthest floor the camera counts as covered, where it still finds the can (m)',
-          0.3, 20.0),
-    Param('plan_margin', 0.15, 'clearance kept from obstacles on planned paths, beyond '
-          'robot_radius; where no path keeps it (a narrow passage), paths keep the safety '
-          'layer\'s margin (m)', 0.0, 1.0),
+    Param('lockstep', False, 'answer every detection at once with a command stamped like its '
+          'image (on /cmd_vel and cmd_vel_stamped; for a simulator in lockstep); the timer then '
+          'sends only the zero of a stale detection'),
+    Param('rate', 20.0, 'rate of the /cmd_vel commands from the control timer (Hz)', 1.0, 200.0),
+    Param('input_timeout', 0.5,
+          'zero Twist while the newest detection shows an image older than this, by its header '
+          'stamp (by its arrival when stamped later); no scan for this long, or no camera_info '
+          'for twice this long with obstacle sensing: no driving forward or back, only turning; '
+          'no odometry for this long: no exploring or path driving (s)', 0.05, 10.0,
+          safer='lower'),
+    Param('stop_distance', 0.25,
+          'gap between the robot front and the can near surface when stopped (m)', 0.02, 3.0,
+          safer='higher'),
+    Param('max_linear', 0.4, 'forward speed limit; exploring cruises at 0.3 m/s, or at this '
+          'when it is lower (m/s)', 0.01, 2.0, safer='lower'),
+    Param('max_reverse', 0.1, 'backing-up speed limit: when closer than stop_distance, and '
+          'to see floor below the camera\'s view that keeps the robot from driving (m/s)',
+          0.0, 1.0, safer='lower'),
+    Param('max_angular', 1.2, 'turn rate limit (rad/s)', 0.05, 6.0, safer='lower'),
+    Param('max_linear_accel', 0.5, 'linear acceleration and deceleration limit (m/s^2)',
+          0.05, 5.0, safer='lower'),
+    Param('max_angular_accel', 3.0, 'angular acceleration limit (rad/s^2)', 0.1, 20.0,
+          safer='lower'),
+    Param('robot_radius', 0.165, 'radius of the robot body about base_link (m)', 0.0, 2.0,
+          safer='higher'),
     Param('safety_margin', 0.05, 'clearance the safety layer keeps from any sensed obstacle, '
           'beyond robot_radius (m)', 0.0, 1.0, safer='higher'),
-    Param('explore_linear', 0.3, 'cruise speed while exploring, on paths and wandering (m/s)',
-          0.01, 2.0, safer='lower'),
-    Param('explore_turn_cost', 0.3, 'exploration prefers goals ahead: metres of path one '
-          'radian of turning is worth (m/rad)', 0.0, 10.0),
-    Param('replan_period', 1.0, 'paths and exploration goals are planned again this often (s)',
-          0.1, 10.0),
-    Param('can_exclusion_radius', 0.25, 'range returns within this of the target can\'s '
-          'estimated centre are the can (or its shadow), not an obstacle; below stop_distance '
-          '+ can_radius, the direct approach never brings the robot to them (m)', 0.0, 1.0,
-          safer='lower'),
-    Param('obstacle_memory', 15.0, 'the safety layer avoids a remembered obstacle until scans '
-          'have had it in their blind zone (nearer than range_min, at any bearing: no ray can '
-          'clear a phantom there and no turn brings it into view) for this long since one last '
-          'saw it; farther out of view it is kept until a scan sees its place free (s)', 1.0,
-          600.0, safer='higher'),
-    Param('unknown_floor_wait', 5.0, 'the safety layer keeps the robot off floor no sensor has '
-          'observed; unknown floor that has been in a scan\'s blind disc (nearer than '
-          'range_min, where no turn can observe it) for this long is taken for floor, unless it '
-          'lies within 0.3 m of a remembered obstacle (s)', 0.5,
-          600.0, safer='higher'),
+    FALLBACK_CAMERA_X,
     Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
           'ahead (m)', 0.05, 5.0),
 )
+"""The can_stopper parameters: the robot's figures, frames, topics and sensors; the control
+law's own heuristics are the constants of :mod:`can_seeker.control.tuning`."""
 
 
 def control_health(state: State, enabled: bool, why: str, last_command: Tuple[float, float],
@@ -186,8 +116,9 @@ class Controller:
 
     def __init__(self, config, camera_info_topic: str = 'camera_info',
                  arm_hint: str = 'call the enable service with true'):
-        """``config`` has the attributes named in :data:`PARAMS`; ``camera_info_topic`` names
-        that input in the missing inputs, ``arm_hint`` says how to arm the node."""
+        """``config`` is :func:`~can_seeker.control.tuning.controller_settings` of the read
+        :data:`PARAMS`; ``camera_info_topic`` names that input in the missing inputs,
+        ``arm_hint`` says how to arm the node."""
         self.config, self.arm_hint, self.enabled = config, arm_hint, bool(config.enabled)
         self.parts = parts = ControllerParts(config, camera_info_topic)
         self.wander, self.scan_sources = parts.wander, parts.scan_sources

@@ -28,7 +28,7 @@ class Verdict(NamedTuple):
 
 
 class SafetyFilter:
-    """Caps commands by the navigator's obstacle map (``~can_exclusion_radius`` about
+    """Caps commands by the navigator's obstacle map (``CAN_EXCLUSION_RADIUS_M`` about
     ``exclude_xy``, the target can, is no obstacle)."""
 
     def __init__(self, config, navigator, senses_obstacles: bool):

@@ -8,6 +8,8 @@ whose memory may span states). An event a state has no row for is a programming 
 import enum
 from typing import Callable, Dict, Iterable, Mapping, Tuple
 
+from can_seeker.control.tuning import LOST_TIMEOUT_S, VANISH_TIMEOUT_S
+
 
 class State(enum.Enum):
     """Controller states, published by name on ``~state``."""
@@ -29,12 +31,12 @@ class Event(enum.Enum):
     RESET_WANDER = 'reset, armed to wander'
     CAN_RANGED = 'the can was ranged'
     CAN_OUT_OF_RANGE = 'the can was not ranged'
-    CAN_VANISHED = 'the can was not ranged for ~vanish_timeout'
+    CAN_VANISHED = 'the can was not ranged for %g s' % VANISH_TIMEOUT_S
     CAN_MOVED = 'the can is off the stop point by more than the reapproach tolerances'
     SETTLED = 'within both tolerances and at rest'
     ARRIVED_UNSEEN = ('at rest where the can was ranged last, which the camera would see but '
-                      'has not ranged for ~vanish_timeout')
-    LOST_TIMEOUT = "~lost_timeout without getting nearer the can's last place"
+                      'has not ranged for %g s' % VANISH_TIMEOUT_S)
+    LOST_TIMEOUT = "%g s in LOST without getting nearer the can's last place" % LOST_TIMEOUT_S
     CAN_NOT_THERE = 'facing where the can was seen last, it is not there'
     SEARCHED_ALL_ROUND = 'a full turn without the can, exploring allowed'
     GOAL_REACHED = 'at the exploration goal'

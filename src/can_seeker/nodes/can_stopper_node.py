@@ -47,6 +47,7 @@ from can_seeker.control.frame_inputs import FrameInputs
 from can_seeker.control.navigation import Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from can_seeker.control.tick_guard import TickGuard
+from can_seeker.control.tuning import controller_settings
 from can_seeker.control.twist_limits import ZERO, require_finite
 from can_seeker.health import ERROR, OK, WARN, InputMonitor
 from can_seeker.msg import CanDetection
@@ -72,6 +73,7 @@ class CanStopperNode:
     """Glue between ROS and :class:`can_seeker.control.controller.Controller`."""
 
     def __init__(self, params):
+        """``params``: the controller's settings (controller_settings of the read PARAMS)."""
         self.params = params
         self.controller = Controller(
             params, camera_info_topic=rospy.resolve_name('camera_info'),
@@ -458,5 +460,5 @@ def main():
     except UnsafeParamError as error:
         rospy.logfatal('can_stopper: %s' % error)
         sys.exit(1)
-    CanStopperNode(params)
+    CanStopperNode(controller_settings(params))
     rospy.spin()

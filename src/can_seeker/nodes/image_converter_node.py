@@ -32,7 +32,7 @@ from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import detection_msg, image_msg
 from can_seeker.vision.report import PARAMS as REPORT_PARAMS
-from can_seeker.vision.report import CanModel, can_report, fallback_pose
+from can_seeker.vision.report import WINDOW_WIDTH_PX, CanModel, can_report, fallback_pose
 from can_seeker.ros.image_input import image_decoder, subscribe_images
 from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
                                             NoColourError)
@@ -114,7 +114,7 @@ class ImageConverterNode:
         if problem:
             rospy.logwarn('image_converter: ~show is true but %s: running headless' % problem)
             return None
-        windows = ImageWindows(self.config.window_width)
+        windows = ImageWindows(WINDOW_WIDTH_PX)
         rospy.on_shutdown(windows.close)
         return windows
 

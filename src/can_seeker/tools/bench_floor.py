@@ -3,24 +3,29 @@
 Runs without ROS (see can_seeker.evaluation.floor_bench): per room, the share of obstacle
 bases within ``--near`` that the scan misses, the frames with a miss of at least
 ``--min-missed-bins`` bins, and the share of phantom bins; then the total. The same seeds give
-the same tours and frames, so two floor models (``--param NAME=VALUE``, any obstacle_scan
-floor parameter) are compared on exactly the same images.
+the same tours and frames, so two floor models (``--param NAME=VALUE``, any FloorSettings
+field: obstacle_scan's floor parameters and the adaptive model's constants) are compared on exactly the same images.
 """
 import argparse
+import dataclasses
 import sys
 import time
 
 from can_seeker.evaluation.floor_bench import run_room, summary_rows
 from can_seeker.ros.paths import urdf_path
 from can_seeker.sim.realism import REALISM_PRESETS
+from can_seeker.params import Param
 from can_seeker.tools.room_pool import map_rooms
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 
 
 def floor_override(text):
-    """NAME=VALUE of a floor model parameter."""
+    """NAME=VALUE of a floor model setting (a parameter, or one of the adaptive model's
+    constants by its settings name)."""
     name, _, value = text.partition('=')
     specs = {spec.name: spec for spec in FLOOR_PARAMS}
+    specs.update({field.name: Param(field.name, field.default, '')
+                  for field in dataclasses.fields(FloorSettings) if field.name not in specs})
     if name not in specs or not value:
         raise argparse.ArgumentTypeError('expected NAME=VALUE with NAME one of %s'
                                          % ', '.join(sorted(specs)))
@@ -46,7 +51,7 @@ def parse_args(argv=None):
                         help='keep the realism preset\'s frame drops (a floor model then '
                         'steps over a dropped frame, as obstacle_scan does)')
     parser.add_argument('--param', action='append', default=[], type=floor_override,
-                        help='floor model parameter NAME=VALUE (repeatable)')
+                        help='floor model setting NAME=VALUE (repeatable)')
     parser.add_argument('--jobs', type=int, default=2, help='rooms run at once')
     return parser.parse_args(argv)
 

@@ -5,8 +5,9 @@ python3-skimage and matplotlib sample data; cans rendered in the pybullet world 
 lights) and prints, for the detector with each colour model (chromaticity, hsv) and for the
 previous detector's HSV box (hue 168-6, saturation >= 130, value >= 50, largest blob), how well
 ``found`` answers "is there a red object, and where", and how well ``found and confidence >=
-min_confidence`` answers "this is the can". ``--param NAME=VALUE`` sets a detector parameter
-for both models (e.g. saturation_min=100); ``--list`` names the images each gets wrong.
+MIN_CONFIDENCE`` (the confidence can_stopper acts on) answers "this is the can". ``--param
+NAME=VALUE`` sets a detector parameter for both models (e.g. saturation_min=100); ``--list``
+names the images each gets wrong.
 """
 import argparse
 import sys
@@ -15,10 +16,10 @@ import cv2
 
 from can_seeker.camera_geometry import camera_pose_from_mount
 from can_seeker.camera_mount import CameraMount
-from can_seeker.control.controller import PARAMS as CONTROLLER_PARAMS
+from can_seeker.control.tuning import MIN_CONFIDENCE
 from can_seeker.evaluation.labelled_images import (Decision, build_set, can_scores,
                                                    detector_decisions, found_scores, in_boxes)
-from can_seeker.params import defaults, read_params
+from can_seeker.params import read_params
 from can_seeker.ros.paths import urdf_path
 from can_seeker.sim.world import CameraSpec, World
 from can_seeker.vision.detector import (COLOUR_MODELS, DETECTOR_PARAMS, DetectorSettings,
@@ -91,8 +92,8 @@ def scores_row(name, subset, scores):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--min-confidence', type=float,
-                        default=defaults(CONTROLLER_PARAMS).min_confidence,
-                        help='can_stopper ~min_confidence (default %(default)s)')
+                        default=MIN_CONFIDENCE,
+                        help='the confidence can_stopper acts on (default %(default)s)')
     parser.add_argument('--list', action='store_true', help='list the images each gets wrong')
     parser.add_argument('--param', action='append', default=[], metavar='NAME=VALUE',
                         help='set a detector parameter for both colour models (repeatable), '

@@ -35,7 +35,6 @@ MAX_CANDIDATES = 8
 CUT_FACTOR = 0.75
 """Shape score factor per image axis along which a blob is cut by the image edge."""
 
-# Thresholds of the detector; all of them are tunable live with dynamic_reconfigure.
 DETECTOR_PARAMS = (
     Param('colour_model', 'chromaticity', 'which test makes a pixel red: chromaticity (ratios '
           'of green and blue to red) or hsv (two hue ranges either side of 0/180, minimum '
@@ -54,22 +53,32 @@ DETECTOR_PARAMS = (
           '(OpenCV hue, 0-180)', 0, 180),
     Param('saturation_min', 170, 'hsv: minimum saturation of a red pixel, which '
           'rejects pink, skin and grey (0-255)', 0, 255),
-    Param('min_area_fraction', 0.0005, 'smallest red blob reported, as a fraction of the image '
-          'area (1)', 0.0, 1.0),
-    Param('open_kernel_px', 3, 'side of the opening kernel that removes red speckles (px, '
-          '1 = off)', 1, 31),
-    Param('close_kernel_px', 7, 'side of the closing kernel that fills highlights and '
-          'holes in the blob (px, 1 = off)', 1, 31),
-    Param('edge_method', 'canny', 'edge detector of the ~edges image: canny, sobel or '
-          'laplacian', choices=EDGE_METHODS),
-    Param('canny_low', 50, 'Canny hysteresis low threshold (grey levels)', 0, 1000),
-    Param('canny_high', 150, 'Canny hysteresis high threshold (grey levels)', 0, 1000),
 )
+"""The colour test's thresholds: the room's light and the can's red set them
+(calibrate_colour measures them); the node's parameters, tunable live with
+dynamic_reconfigure."""
+
+MIN_AREA_FRACTION = 0.0005
+"""Smallest red blob reported, as a fraction of the image area: 38 px of 320 x 240, the can's
+size about 4 m away through a 45 deg vertical field of view."""
+OPEN_KERNEL_PX = 3
+"""Side of the opening kernel that removes red speckles (px, 1 = off)."""
+CLOSE_KERNEL_PX = 7
+"""Side of the closing kernel that fills highlights and holes in the blob (px, 1 = off): a
+label's lettering and the light's reflection on the metal."""
+EDGE_METHOD = 'canny'
+"""Edge detector of the ~edges debug image: canny, sobel or laplacian."""
+CANNY_LOW = 50
+"""Canny hysteresis low threshold of the ~edges image (grey levels)."""
+CANNY_HIGH = 150
+"""Canny hysteresis high threshold of the ~edges image (grey levels): three times the low one,
+within the 2:1 to 3:1 Canny proposed."""
 
 
 @dataclass(frozen=True)
 class DetectorSettings:
-    """Validated thresholds of :class:`RedCanDetector` (see DETECTOR_PARAMS for units)."""
+    """Validated thresholds of :class:`RedCanDetector`: DETECTOR_PARAMS (see there for units)
+    and the blob and edge constants above (their defaults here; benches and tests vary them)."""
 
     colour_model: str
     green_max_ratio: float
@@ -79,12 +88,12 @@ class DetectorSettings:
     hue_max: int
     hue_min_wrap: int
     saturation_min: int
-    min_area_fraction: float
-    open_kernel_px: int
-    close_kernel_px: int
-    edge_method: str
-    canny_low: int
-    canny_high: int
+    min_area_fraction: float = MIN_AREA_FRACTION
+    open_kernel_px: int = OPEN_KERNEL_PX
+    close_kernel_px: int = CLOSE_KERNEL_PX
+    edge_method: str = EDGE_METHOD
+    canny_low: int = CANNY_LOW
+    canny_high: int = CANNY_HIGH
 
     @classmethod
     def defaults(cls):
@@ -93,7 +102,8 @@ class DetectorSettings:
 
     @classmethod
     def from_values(cls, values):
-        """Settings from any object with one attribute per DETECTOR_PARAMS name."""
+        """Settings from any object with one attribute per DETECTOR_PARAMS name; the others
+        keep their constants."""
         return cls(**{spec.name: getattr(values, spec.name) for spec in DETECTOR_PARAMS})
 
 

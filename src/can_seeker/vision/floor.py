@@ -29,7 +29,7 @@ FLOOR_MODELS = ('adaptive', 'dark')
 HUE_BINS = 30
 """Colour histogram bins over OpenCV's hue (0-179): 12 degrees each."""
 FAINT_HUE_BINS = 12
-"""Bins over the hue of faintly coloured pixels (see ``~min_faint_saturation``): 30 degrees
+"""Bins over the hue of faintly coloured pixels (see MIN_FAINT_SATURATION): 30 degrees
 each, after the HUE_BINS; the bin after them is grey."""
 GREY_BIN = HUE_BINS + FAINT_HUE_BINS
 FAINT_MAX_GREY_SHARE = 0.25
@@ -59,7 +59,7 @@ VALUE_BIN_LUT = _value_bin_lut()
 VALUE_BINS = int(VALUE_BIN_LUT[-1]) + 1
 CHROMA_SATURATION_MIN = 50
 """Pixels less saturated than this (0-255) have a hue the fine bins cannot trust: they count as
-faintly coloured, or grey (see ``~min_faint_saturation``)."""
+faintly coloured, or grey (see MIN_FAINT_SATURATION)."""
 CHROMA_VALUE_MIN = 40
 """Pixels darker than this (0-255) have no reliable hue: they count as grey."""
 BIN_TOLERANCE = 1
@@ -107,80 +107,91 @@ CHROMA_JOINT_VALUE_TOLERANCE = JOINT_VALUE_TOLERANCE
 median's brightest channel) either side of a pixel's, besides the CHROMA_TOLERANCE_BINS: the
 same +-10 to 16 grey levels as the joint hue test."""
 
+MIN_BIN_FRACTION = 0.004
+"""A colour or intensity histogram bin holding less than this fraction of the floor model marks
+its pixels as obstacles: rarer than JPEG noise and shading put on a floor's own pixels."""
+ADAPT_RATE = 0.005
+"""Weight of each frame's reference floor pixels in the floor model (per frame; 0 would keep
+the first frame's model): a time constant of 200 frames (13 s at 15 Hz), so the model follows
+a slow change of light, not an object in the reference area for a few frames."""
+REFERENCE_HEIGHT = 0.2
+"""Height of the reference trapezoid at the bottom of the image that is assumed to be floor, as
+a fraction of the image height: the floor just in front of the robot, which it drove over or
+will reach first."""
+SUSPECT_FRACTION = 0.3
+"""The floor model is not updated from a frame whose reference area is more than this fraction
+obstacle pixels: an object in front of the robot must not be learnt as floor."""
+MIN_OBSTACLE_AREA = 0.001
+"""Obstacle regions smaller than this fraction of the image area are ignored as noise."""
+MAX_COLOUR_SHIFT = 0.3
+"""Largest white-balance drift the floor model undoes: the log-chromaticity shift (natural log
+of a channel ratio to green), followed from frame to frame over the whole image and held to the
+reference area's colours, undone on the whole image before classifying (0 = off)."""
+MIN_JOINT_FRACTION = 0.002
+"""A pixel whose (colour, intensity) bin and its neighbours (a colour bin and two intensity
+bins, 10-16 grey levels, either side) hold less than this fraction of the floor model is an
+obstacle, even when its colour and its intensity are each common on the floor: on a floor of
+two tiles, a wall with the hue of one and the brightness of the other (0 = off)."""
+MIN_FAINT_SATURATION = 50
+"""Pixels at least this saturated (HSV, 0-255) but less than CHROMA_SATURATION_MIN have a faint
+colour, judged on coarse hue bins of 30 degrees, so a pinkish grey wall is no greenish grey
+floor; less saturated pixels are grey (CHROMA_SATURATION_MIN = faint colours are grey too)."""
+MIN_CHROMA_FRACTION = 0.002
+"""A pixel whose log chromaticity (log R/G and log B/G of its 5x5 median, brightest channel
+CHROMA_MIN_VALUE or more) and its neighbours within 0.04 in each hold less than this fraction of
+the floor's is an obstacle: a cream wall is no white or pale blue floor tile, though all are
+too pale to have a hue; on a camera whose white balance drifts, it needs MAX_COLOUR_SHIFT
+(0 = off)."""
+MIN_CHROMA_JOINT_FRACTION = 0.002
+"""A pixel whose log chromaticity (as for MIN_CHROMA_FRACTION) within 0.04 in each ratio and
+brightness (its median's brightest channel) within two intensity bins (10-16 grey levels)
+together hold less than this fraction of the floor's is an obstacle, even when its chromaticity
+alone is common: on a floor of a light and a mid tile, a wall with the light tile's
+chromaticity and the mid tile's brightness (0 = off; needs MIN_CHROMA_FRACTION)."""
+MAX_VIGNETTING = 0.7
+"""Largest lens fall-off the floor model estimates from the images and undoes before
+classifying: the fraction of brightness lost in the image corners (an estimate under 0.05
+leaves the image alone; 0 = off)."""
+MIN_EDGE_CONTRAST = 1.5
+"""Obstacle regions whose outline (away from the image border) has a mean colour gradient below
+this are floor shading (vignetting, light fall-off), not objects (grey levels per pixel, after
+a 5x5 Gaussian blur; 0 = keep every region)."""
+
 FLOOR_PARAMS = (
     Param('floor_model', 'adaptive', 'floor classifier: adaptive (floor appearance histograms '
           'learned from the reference area in front of the robot) or dark (the tutorial: '
           'pixels darker than ~dark_threshold are obstacles)', choices=FLOOR_MODELS),
     Param('dark_threshold', 60, 'grey level below which a pixel is an obstacle when '
           '~floor_model is dark (0-255)', 0, 255),
-    Param('min_bin_fraction', 0.004, 'a colour or intensity histogram bin holding less than '
-          'this fraction of the floor model marks its pixels as obstacles (1)', 0.0, 1.0),
-    Param('adapt_rate', 0.005, 'weight of each frame\'s reference floor pixels in the floor '
-          'model (1 per frame; 0 = keep the first frame\'s model)', 0.0, 1.0),
-    Param('reference_height', 0.2, 'height of the reference trapezoid at the bottom of the '
-          'image that is assumed to be floor, as a fraction of the image height (1)', 0.02, 1.0),
-    Param('suspect_fraction', 0.3, 'the floor model is not updated from a frame whose '
-          'reference area is more than this fraction obstacle pixels (1)', 0.0, 1.0),
-    Param('min_obstacle_area', 0.001, 'obstacle regions smaller than this fraction of the image '
-          'area are ignored as noise (1)', 0.0, 1.0),
-    Param('max_colour_shift', 0.3, 'largest white-balance drift the floor model undoes: the '
-          'log-chromaticity shift (natural log of a channel ratio to green), followed from '
-          'frame to frame over the whole image and held to the reference area\'s colours, '
-          'undone on the whole image before classifying (0 = off)', 0.0, 1.0),
-    Param('min_joint_fraction', 0.002, 'a pixel whose (colour, intensity) bin and its '
-          'neighbours (a colour bin and two intensity bins, 10-16 grey levels, either side) hold '
-          'less than this fraction '
-          'of the floor model is an obstacle, even when its colour and its intensity are each '
-          'common on the floor: on a floor of two tiles, a wall with the hue of one and the '
-          'brightness of the other (1; 0 = off)', 0.0, 1.0),
-    Param('min_faint_saturation', 50, 'pixels at least this saturated (HSV, 0-255) but less '
-          'than 50 have a faint colour, judged on coarse hue bins of 30 degrees, so a pinkish '
-          'grey wall is no greenish grey floor; less saturated pixels are grey (50 = faint '
-          'colours are grey too)', 0, 50),
-    Param('min_chroma_fraction', 0.002, 'a pixel whose log chromaticity (log R/G and log B/G '
-          'of its 5x5 median, brightest channel 60 or more) and its neighbours within 0.04 in '
-          'each hold less than this fraction of the floor\'s is an obstacle: a cream wall is '
-          'no white or pale blue floor tile, though all are too pale to have a hue; on a camera '
-          'whose white balance drifts, it needs ~max_colour_shift (1; 0 = off)', 0.0, 1.0),
-    Param('min_chroma_joint_fraction', 0.002, 'a pixel whose log chromaticity (as for '
-          '~min_chroma_fraction) within 0.04 in each ratio and brightness (its median\'s '
-          'brightest channel) within two intensity bins (10-16 grey levels) together hold less '
-          'than this fraction of '
-          'the floor\'s is an obstacle, even when its chromaticity alone is common: on a floor '
-          'of a light and a mid tile, a wall with the light tile\'s chromaticity and the mid '
-          'tile\'s brightness (1; 0 = off; needs ~min_chroma_fraction)', 0.0, 1.0),
-    Param('max_vignetting', 0.7, 'largest lens fall-off the floor model estimates from the '
-          'images and undoes before classifying: brightness lost in the image corners (1, '
-          'fraction; an estimate under 0.05 leaves the image alone; 0 = off)', 0.0, 0.9),
-    Param('min_edge_contrast', 1.5, 'obstacle regions whose outline (away from the image '
-          'border) has a mean colour gradient below this are floor shading (vignetting, light '
-          'fall-off), not objects (grey levels per pixel, after a 5x5 Gaussian blur; 0 = keep '
-          'every region)', 0.0, 255.0),
 )
+"""The floor classifier's parameters: which model, and the dark model's threshold for a room;
+the adaptive model's heuristics are the constants above."""
 
 
 @dataclass(frozen=True)
 class FloorSettings:
-    """Validated settings of :class:`FloorClassifier` (see FLOOR_PARAMS for units)."""
+    """Validated settings of :class:`FloorClassifier`: FLOOR_PARAMS and the adaptive model's
+    constants above (their defaults here; benches and tests vary them)."""
 
     floor_model: str = 'adaptive'
     dark_threshold: int = 60
-    min_bin_fraction: float = 0.004
-    adapt_rate: float = 0.005
-    reference_height: float = 0.2
-    suspect_fraction: float = 0.3
-    min_obstacle_area: float = 0.001
-    max_colour_shift: float = 0.3
-    min_joint_fraction: float = 0.002
-    min_faint_saturation: int = 50
-    min_chroma_fraction: float = 0.002
-    min_chroma_joint_fraction: float = 0.002
-    max_vignetting: float = 0.7
-    min_edge_contrast: float = 1.5
+    min_bin_fraction: float = MIN_BIN_FRACTION
+    adapt_rate: float = ADAPT_RATE
+    reference_height: float = REFERENCE_HEIGHT
+    suspect_fraction: float = SUSPECT_FRACTION
+    min_obstacle_area: float = MIN_OBSTACLE_AREA
+    max_colour_shift: float = MAX_COLOUR_SHIFT
+    min_joint_fraction: float = MIN_JOINT_FRACTION
+    min_faint_saturation: int = MIN_FAINT_SATURATION
+    min_chroma_fraction: float = MIN_CHROMA_FRACTION
+    min_chroma_joint_fraction: float = MIN_CHROMA_JOINT_FRACTION
+    max_vignetting: float = MAX_VIGNETTING
+    min_edge_contrast: float = MIN_EDGE_CONTRAST
 
     @classmethod
     def from_values(cls, values):
-        """Settings from any object with one attribute per FLOOR_PARAMS name."""
+        """Settings from any object with one attribute per FLOOR_PARAMS name (the node's read
+        parameters); the other settings keep their constants."""
         return cls(**{spec.name: getattr(values, spec.name) for spec in FLOOR_PARAMS})
 
 
@@ -370,8 +381,8 @@ class FloorClassifier:
 
     def _set_chroma_model(self, model):
         """Keep ``model`` and, per joint bin, whether its pixels are rare on the floor: by
-        chromaticity alone (~min_chroma_fraction) or by chromaticity and brightness together
-        (~min_chroma_joint_fraction)."""
+        chromaticity alone (MIN_CHROMA_FRACTION) or by chromaticity and brightness together
+        (MIN_CHROMA_JOINT_FRACTION)."""
         self.chroma_model = model
         if model is None:
             return
@@ -428,7 +439,7 @@ class FloorClassifier:
 
     def _obstacle_pixels(self, features):
         """mono8, 255 where a pixel's colour or intensity bin is rare in the floor model, or
-        (with ~min_joint_fraction) the pair of them (see :meth:`_obstacle_bins_of`)."""
+        (with MIN_JOINT_FRACTION) the pair of them (see :meth:`_obstacle_bins_of`)."""
         if self._obstacle_bins_model is not self.model:
             self._obstacle_bins = self._obstacle_bins_of(self.model)
             self._obstacle_bins_model = self.model

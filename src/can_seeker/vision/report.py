@@ -28,6 +28,7 @@ import numpy as np
 from can_seeker.camera_geometry import (CAMERA_INFO_PARAMS, CameraPose, camera_pose_from_mount,
                                         can_image_box, can_range_bearing, can_rims_px)
 from can_seeker.camera_mount import CAMERA_FORWARD_M, FALLBACK_MOUNT_PARAMS, CameraMount
+from can_seeker.can_size import CAN_DIAMETER_M, CAN_HEIGHT_M
 from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param
 from can_seeker.vision.detector import (DETECTOR_PARAMS, Blob, convexity_score,
@@ -37,21 +38,20 @@ SIZE_PREFERENCE_EXPONENT = 0.25
 """Candidates are ranked by confidence x (area / largest area) ** this: among equally
 can-like blobs the larger wins, but a can-like blob beats a larger shapeless one."""
 
+SIZE_TOLERANCE = 0.3
+"""Size check: confidence is kept while the blob's width and height are within this fraction
+of the can's at its floor range, and falls to 0 at twice it: the range from the floor, the
+blob's outline and a tilted camera each err by a few per cent."""
+WINDOW_WIDTH_PX = 640
+"""Width of each ~show window: images are scaled to it, keeping their aspect ratio."""
+
 PARAMS = DETECTOR_PARAMS + (BASE_FRAME,) + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_PARAMS + (
-    Param('can_diameter', 0.066, 'diameter of the can, for the near surface, the width '
-          'fallback range and the size check (m)', 0.001, 1.0),
-    Param('can_height', 0.122, 'height of the can, for the size check (m)', 0.001, 2.0),
     Param('can_colour_bottom', 0.005, 'height above the floor where the can\'s colour begins '
           '(a soda can\'s unprinted base, about 5 mm): the floor range\'s ray through the '
           'blob\'s lower edge meets the can there; 0 for a can coloured to the floor (m)',
           0.0, 0.5),
-    Param('size_tolerance', 0.3, 'size check: confidence is kept while the blob\'s width and '
-          'height are within this fraction of the can\'s at its floor range, and falls to 0 at '
-          'twice it (1)', 0.01, 5.0),
     Param('show', False, 'open OpenCV windows (origin, result, edges); only when the display '
           'can be opened, headless with a warning otherwise'),
-    Param('window_width', 640, 'width of each ~show window (px): images are scaled to it, '
-          'keeping their aspect ratio; 0 = image size', 0, 4096),
 )
 
 
@@ -66,19 +66,19 @@ def fallback_pose(camera_height_m: float, camera_pitch_deg: float,
 
 @dataclass(frozen=True)
 class CanModel:
-    """Size of the can (m) and the relative size error the geometry check tolerates (1)."""
+    """Size of the can (m), the relative size error the geometry check tolerates (1) and the
+    height where its colour begins (m)."""
 
-    diameter_m: float = 0.066
-    height_m: float = 0.122
-    size_tolerance: float = 0.3
+    diameter_m: float = CAN_DIAMETER_M
+    height_m: float = CAN_HEIGHT_M
+    size_tolerance: float = SIZE_TOLERANCE
     colour_bottom_m: float = 0.005
 
     @classmethod
     def from_values(cls, values):
-        """From an object with can_diameter, can_height, size_tolerance and can_colour_bottom
-        (the node's PARAMS)."""
-        return cls(values.can_diameter, values.can_height, values.size_tolerance,
-                   values.can_colour_bottom)
+        """From an object with can_colour_bottom (the node's PARAMS); the can's size and the
+        tolerance are the constants."""
+        return cls(colour_bottom_m=values.can_colour_bottom)
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 to it crosses obstacles grown by the robot's radius and safety margin (never in the last
 ``DIRECT_GAP_M``, where the direct law stops in front of the can, or beside the straight line
 when an obstacle holds that back: :mod:`~can_seeker.control.behaviours.stop_aside`). Within
-``~distance_tolerance`` of the stop distance it only faces the can. After a stall it keeps to
+``DISTANCE_TOLERANCE_M`` of the stop distance it only faces the can. After a stall it keeps to
 the path whether or not the straight line is clear (the KeepToPath recovery)."""
 import math
 from typing import Optional
@@ -71,7 +71,7 @@ class Approach(Behaviour):
 
     def finished(self, command: Command, now_s: float) -> Optional[Event]:
         """Once within both tolerances and at rest: SETTLED where the camera ranged the can
-        within ~vanish_timeout or the can is below its view, else ARRIVED_UNSEEN: the approach
+        within VANISH_TIMEOUT_S or the can is below its view, else ARRIVED_UNSEEN: the approach
         arrived at a place a false or stale estimate put the can (one frame that ranged a
         half-hidden can far off, then carried on odometry), not at the can."""
         tracker = self.context.tracker

@@ -43,7 +43,7 @@ class Context:
         return reason(Kind.CANNOT_NAVIGATE, problems=problems, consequence=consequence)
 
     def turning(self) -> Command:
-        """Turning in place at ~search_angular toward the side the can was seen last."""
+        """Turning in place at SEARCH_ANGULAR_RADPS toward the side the can was seen last."""
         return 0.0, self.tracker.turn_sign * self.config.search_angular
 
 

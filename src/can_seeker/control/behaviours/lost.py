@@ -1,5 +1,5 @@
 """LOST: back toward where the can was seen last (a grid path), facing it once within reach,
-else turning toward the side it left; SEARCH once ~lost_timeout passed without getting nearer
+else turning toward the side it left; SEARCH once LOST_TIMEOUT_S passed without getting nearer
 that place, or at once when facing its place shows it is not there."""
 import math
 from typing import Optional
@@ -15,12 +15,12 @@ from can_seeker.control.supervisor import Event
 
 NOT_THERE_S = 1.0
 """LOST within reach of where the can was seen last, facing it (within
-~reapproach_bearing_deg, its base in view) without seeing it for this long (s): it is not
+REAPPROACH_BEARING_DEG, its base in view) without seeing it for this long (s): it is not
 there (moved, or a misplaced sighting put it there), so SEARCH at once instead of standing
-until ~lost_timeout."""
+until LOST_TIMEOUT_S."""
 
 PROGRESS_M = 0.1
-"""LOST keeps heading for the can's last place while each ~lost_timeout brings the robot at
+"""LOST keeps heading for the can's last place while each LOST_TIMEOUT_S brings the robot at
 least this much nearer to it than it has been (m): a long way round an obstacle is no reason to
 give the can up, standing or circling is. Exploration would not bring the robot back: the floor
 about a can it saw counts as covered."""

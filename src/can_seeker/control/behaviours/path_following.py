@@ -1,5 +1,5 @@
 """Driving along grid paths, shared by EXPLORE, APPROACH and LOST: the path and when it was
-planned (a goal's path is planned again every ``~replan_period``)."""
+planned (a goal's path is planned again every ``REPLAN_PERIOD_S``)."""
 import math
 from typing import Optional, Tuple
 
@@ -26,7 +26,7 @@ class PathFollower:
         self.path_xy = None
 
     def replan_due(self, now_s: float) -> bool:
-        """True when ``~replan_period`` has passed since the last planning."""
+        """True when ``REPLAN_PERIOD_S`` has passed since the last planning."""
         return elapsed_s(now_s, self.planned_s) >= self.config.replan_period
 
     def follow(self, goal_xy, now_s: float, because,

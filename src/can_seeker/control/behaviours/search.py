@@ -9,7 +9,7 @@ from can_seeker.control.supervisor import Event
 
 
 class Search(Behaviour):
-    """Turns at ~search_angular; after a full turn it explores (unless ~explore is false or
+    """Turns at SEARCH_ANGULAR_RADPS; after a full turn it explores (unless ~explore is false or
     grid paths are out of reach: then it turns on)."""
 
     def start(self, now_s: float) -> None:

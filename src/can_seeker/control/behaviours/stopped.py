@@ -1,5 +1,5 @@
 """STOPPED: hold zero in front of the can; approach again when it moved, LOST when it
-vanished for ~vanish_timeout."""
+vanished for VANISH_TIMEOUT_S."""
 import math
 from typing import Optional
 

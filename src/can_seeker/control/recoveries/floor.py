@@ -13,7 +13,7 @@ BACK_UP_BEYOND_M = 0.05
 that floor is below it, so the image's bottom rows see it whole."""
 LOOK_BELOW_FRACTION = 0.5
 """A robot kept from driving by unknown floor and turning slower than this fraction of
-~search_angular turns to look at that floor instead."""
+SEARCH_ANGULAR_RADPS turns to look at that floor instead."""
 
 
 class BackUpToSeeFloor:
@@ -65,7 +65,7 @@ class BackUpToSeeFloor:
 
 
 class TurnToLook:
-    """Turns toward the unknown floor at ~search_angular, unless turning already."""
+    """Turns toward the unknown floor at SEARCH_ANGULAR_RADPS, unless turning already."""
 
     def __init__(self, config):
         self.config = config

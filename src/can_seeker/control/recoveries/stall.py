@@ -15,7 +15,7 @@ STALL_APPROACH_M = 0.2
 STALL_S = 6.0
 APPROACH_STALL_BEYOND_MEMORY_S = 5.0
 """APPROACH and LOST that have brought the robot no ``STALL_APPROACH_M`` nearer to the can,
-farther than ``DIRECT_GAP_M`` from it, for this much longer than ``~obstacle_memory`` (s)
+farther than ``DIRECT_GAP_M`` from it, for this much longer than ``OBSTACLE_MEMORY_S`` (s)
 change how they head for it (:class:`KeepToPath`): a robot held back by an obstacle it no
 longer sees (a phantom too) first gets the time to forget it."""
 
@@ -63,7 +63,7 @@ class KeepToPath:
     """APPROACH and LOST switch between their usual way to the can (the direct law while the
     straight line is clear, else a grid path; LOST when the can leaves the view) and keeping to
     the grid path (``active``: the can leaving the view is no reason to stop following it)
-    whenever in ``~obstacle_memory`` + ``APPROACH_STALL_BEYOND_MEMORY_S`` they have brought the
+    whenever in ``OBSTACLE_MEMORY_S`` + ``APPROACH_STALL_BEYOND_MEMORY_S`` they have brought the
     robot no ``STALL_APPROACH_M`` nearer to it while it is farther than ``DIRECT_GAP_M``. A way
     that ends in a cycle (an obstacle's corner beside the straight line: the path around it
     turns the camera away from the can, LOST turns back, the direct law meets the corner again)
