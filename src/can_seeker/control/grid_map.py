@@ -156,19 +156,23 @@ class GridMap:
         ends = lattice(ends_xy)
         offsets = ends - origin
         squared = (offsets * offsets).sum(axis=1)
+        # One sampling serves both layers: every OBSERVED_SUBDIVISION-th fine sample is a coarse
+        # one (the same lattice point), as a coarse cell is that many fine cells a side.
         points, fractions = _ray_samples(origin, offsets, squared,
-                                         self._resolution_um // RAY_STEPS_PER_CELL)
-        reach = fractions[None, :] + np.where(hits, self._resolution_um, 0)[:, None]
+                                         self._fine_um // RAY_STEPS_PER_CELL)
+        fine_cells, coarse_cells = self._sample_cells(points)
+        coarse_fractions = fractions[::OBSERVED_SUBDIVISION]
+        reach = coarse_fractions[None, :] + np.where(hits, self._resolution_um, 0)[:, None]
         along = reach * reach <= squared[:, None]
-        beyond_blind = fractions[None, :] >= clear_um
-        free = self._cells(points[along & beyond_blind])
-        within_blind = (fractions * fractions)[None, :] <= squared[:, None]
+        beyond_blind = coarse_fractions[None, :] >= clear_um
+        free = self._marked(coarse_cells[along & beyond_blind])
+        within_blind = (coarse_fractions * coarse_fractions)[None, :] <= squared[:, None]
         within_blind &= ~beyond_blind
-        blind = self._cells(points[within_blind])
+        blind = self._marked(coarse_cells[within_blind])
         edge_um = clear_um + int(lattice(BLIND_EDGE_M))
         at_edge = hits & (squared <= edge_um * edge_um)
-        kept = (self._cells(points[within_blind & at_edge[:, None]]) & (self.evidence > 0)
-                if at_edge.any() else None)
+        kept = (self._marked(coarse_cells[within_blind & at_edge[:, None]])
+                & (self.evidence > 0) if at_edge.any() else None)
         if disc_window is not None:
             blind[disc_window[0]] |= disc_window[1]
         # nearest to the sensor first: where one cell has several hits, that one is kept
@@ -183,7 +187,13 @@ class GridMap:
         self.hit_xy[hx[first], hy[first]] = hit_xy[first]
         free &= ~hit
         blind &= ~hit
-        self._observe_rays(origin, ends, offsets, squared, hits, clear_um)
+        fine_reach = fractions[None, :] + np.where(hits, self._fine_um, 0)[:, None]
+        fine_free = (fine_reach * fine_reach <= squared[:, None]) & (fractions[None, :] >= clear_um)
+        hx, hy, hit_inside = self._lattice_index(ends[hits], self._fine_um, len(self.observed))
+        observed = self.observed.reshape(-1)
+        seen_free = fine_cells[fine_free]
+        observed[seen_free[seen_free >= 0]] = True
+        observed[hx[hit_inside] * len(self.observed) + hy[hit_inside]] = True
         self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
         self.blind_s[hit] = 0.0
@@ -191,26 +201,26 @@ class GridMap:
         if kept is not None:
             self.blind_s[kept] = 0.0
 
-    def _observe_rays(self, origin: np.ndarray, ends: np.ndarray, offsets: np.ndarray,
-                      squared: np.ndarray, hits: np.ndarray, clear_um: int) -> None:
-        """Mark the fine cells along the rays (from ``origin`` to ``ends``, um; ``offsets``
-        between them, ``squared`` their squared lengths) from ``clear_um`` on as observed, up
-        to one fine cell short of a hit, and the hit's own fine cell."""
-        points, fractions = _ray_samples(origin, offsets, squared,
-                                         self._fine_um // RAY_STEPS_PER_CELL)
-        reach = fractions[None, :] + np.where(hits, self._fine_um, 0)[:, None]
-        free = (reach * reach <= squared[:, None]) & (fractions[None, :] >= clear_um)
-        fx, fy, inside = self._lattice_index(np.concatenate((points[free], ends[hits])),
-                                             self._fine_um, len(self.observed))
-        self.observed[fx[inside], fy[inside]] = True
+    def _sample_cells(self, points_um: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """(fine, coarse) flat indices of the cells holding the fine samples ``points_um``
+        (N x M x 2, whole um) and of every :data:`OBSERVED_SUBDIVISION`-th of them (the coarse
+        samples), -1 outside the grid (see :meth:`_lattice_index`; a fine cell's indices
+        divided by the subdivision are its coarse cell's)."""
+        fine_cells = len(self.observed)
+        fx = np.floor((points_um[..., 0] - self._origin_um) / self._fine_um).astype(np.int64)
+        fy = np.floor((points_um[..., 1] - self._origin_um) / self._fine_um).astype(np.int64)
+        inside = (fx >= 0) & (fx < fine_cells) & (fy >= 0) & (fy < fine_cells)
+        fine = np.where(inside, fx * fine_cells + fy, -1)
+        step = OBSERVED_SUBDIVISION
+        coarse = np.where(inside[:, ::step], (fx[:, ::step] // step) * self.cells
+                          + fy[:, ::step] // step, -1)
+        return fine, coarse
 
-    def _cells(self, xy_um: np.ndarray) -> np.ndarray:
-        """Boolean grid of the cells holding any of the points ``xy_um`` (outside: none)."""
-        ix, iy, inside = self._lattice_index(xy_um.reshape(-1, 2), self._resolution_um,
-                                             self.cells)
-        cells = np.zeros_like(self.seen)
-        cells[ix[inside], iy[inside]] = True
-        return cells
+    def _marked(self, flat_cells: np.ndarray) -> np.ndarray:
+        """Boolean coarse layer of the cells ``flat_cells`` (flat indices, -1: outside, none)."""
+        marked = np.zeros(self.cells * self.cells + 1, bool)
+        marked[flat_cells] = True
+        return marked[:-1].reshape(self.cells, self.cells)
 
     def mark_seen(self, camera_xy, heading_rad: float, half_fov_rad: float, near_m: float,
                   far_m: float) -> None:
