@@ -182,3 +182,24 @@ def test_wavefront_through_rooms_and_a_maze_equals_the_sweeps():
     for start in ((0, 0), (81, 81), (41, 75), (30, 30)):
         np.testing.assert_array_equal(planner.wavefront(free, start),
                                       reference_wavefront(free, start))
+
+
+def reference_inflate(blocked, radius_cells):
+    """:func:`planner.inflate` one offset of the disc at a time."""
+    grown = blocked.copy()
+    reach = int(math.floor(radius_cells))
+    for dx in range(-reach, reach + 1):
+        for dy in range(-reach, reach + 1):
+            if (dx or dy) and dx * dx + dy * dy <= radius_cells * radius_cells:
+                grown |= planner.shifted(blocked, dx, dy, False)
+    return grown
+
+
+@pytest.mark.parametrize('radius_cells', (0.0, 0.5, 1.0, 1.2071, 2.0, 2.2360679774997896, 3.15,
+                                          4.999999, 5.0, 7.3))
+def test_inflate_grows_as_one_offset_at_a_time(radius_cells):
+    rng = np.random.default_rng(int(radius_cells * 1000))
+    for shape in ((8, 17), (40, 31), (82, 82)):
+        blocked = rng.random(shape) < 0.05
+        np.testing.assert_array_equal(planner.inflate(blocked, radius_cells),
+                                      reference_inflate(blocked, radius_cells))

@@ -29,13 +29,20 @@ def shifted(array: np.ndarray, dx: int, dy: int, fill) -> np.ndarray:
 
 
 def inflate(blocked: np.ndarray, radius_cells: float) -> np.ndarray:
-    """Cells within ``radius_cells`` (centre to centre) of a blocked cell."""
-    grown = blocked.copy()
+    """Cells within ``radius_cells`` (centre to centre) of a blocked cell: the disc as rows of
+    offsets, each row the blocked cells grown along y by its half width, moved along x."""
     reach = int(math.floor(radius_cells))
-    for dx in range(-reach, reach + 1):
-        for dy in range(-reach, reach + 1):
-            if (dx or dy) and dx * dx + dy * dy <= radius_cells * radius_cells:
-                grown |= shifted(blocked, dx, dy, False)
+    half_widths = [max([dy for dy in range(reach + 1) if dx * dx + dy * dy
+                        <= radius_cells * radius_cells], default=-1)
+                   for dx in range(-reach, reach + 1)]
+    along_y = [blocked]
+    for half_width in range(1, max(half_widths) + 1):
+        along_y.append(along_y[-1] | shifted(blocked, 0, half_width, False)
+                       | shifted(blocked, 0, -half_width, False))
+    grown = blocked.copy()
+    for dx, half_width in zip(range(-reach, reach + 1), half_widths):
+        if half_width >= 0:
+            grown |= shifted(along_y[half_width], dx, 0, False)
     return grown
 
 
