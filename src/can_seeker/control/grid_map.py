@@ -58,9 +58,13 @@ class GridMap:
         self.scan_s: Dict[str, float] = {}
         self.hit_xy = np.zeros((self.cells, self.cells, 2))
         self.contact = np.zeros((self.cells, self.cells), bool)
+        self.changes = 0
+        """Counts the calls that changed the obstacle and observed layers (scans, contacts,
+        the robot's body, clearing): answers derived from them stay valid while it stands."""
 
     def clear(self) -> None:
         """Forget every obstacle and all coverage."""
+        self.changes += 1
         self.evidence[:] = 0
         self.seen[:] = False
         self.observed[:] = False
@@ -118,6 +122,7 @@ class GridMap:
         cell = self.cell_of(*xy)
         if cell is None:
             return
+        self.changes += 1
         self.contact[cell] = True
         self.hit_xy[cell] = xy
 
@@ -135,6 +140,7 @@ class GridMap:
         every half resolution from its origin; a sample counts along the ray while it is no
         farther from the origin than the ray's end (one resolution nearer for a hit, so the
         hit's own cell stays occupied)."""
+        self.changes += 1
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
         previous_s = self.scan_s.get(source)
         elapsed = 0.0 if previous_s is None else elapsed_s(stamp_s, previous_s)
@@ -251,6 +257,7 @@ class GridMap:
         fx, fy = self._window(centre, radius_um, self._fine_um, len(self.observed))
         if len(fx) == 0 or len(fy) == 0:
             return
+        self.changes += 1
         centres = self._centres_um(*np.meshgrid(fx, fy, indexing='ij'), self._fine_um)
         self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= _within(centres, centre, radius_um)
 

@@ -151,6 +151,7 @@ class Navigator:
         self.last_scans: Dict[str, Tuple[np.ndarray, Pose2D]] = {}
         self.candidates: List[np.ndarray] = []
         self.candidates_viewed: List[bool] = []
+        self._keep_off_memo: Tuple = (None, None)
 
     def reset(self) -> None:
         """Forget the map, the pose, the last scans and the places the can may stand."""
@@ -298,7 +299,7 @@ class Navigator:
                                                 SAFETY_HORIZON_M)
         if index is None or index < obstacles:
             return travel_m, None
-        return travel_m, points[index]
+        return travel_m, points[index].copy()
 
     def free_travel_toward_m(self, targets_base: np.ndarray, exclude_xy=None,
                              exclude_radius_m: float = 0.0) -> np.ndarray:
@@ -314,7 +315,18 @@ class Navigator:
     def _keep_off(self, exclude_xy, exclude_radius_m: float) -> Tuple[np.ndarray, np.ndarray,
                                                                        int]:
         """(points N x 2 in base_link, clearance m each, how many of them are obstacles) that
-        the safety layer keeps the robot from: the obstacles first, then the unknown floor."""
+        the safety layer keeps the robot from: the obstacles first, then the unknown floor.
+        The last answer is kept while the pose, the map and the exclusion stay the same (the
+        checks of one tick ask several times)."""
+        key = (self.pose, self.grid.changes, None if exclude_xy is None
+               else tuple(float(v) for v in exclude_xy), exclude_radius_m)
+        if self._keep_off_memo[0] != key:
+            self._keep_off_memo = key, self._points_to_keep_off(exclude_xy, exclude_radius_m)
+        return self._keep_off_memo[1]
+
+    def _points_to_keep_off(self, exclude_xy, exclude_radius_m: float) -> Tuple[np.ndarray,
+                                                                                 np.ndarray, int]:
+        """:meth:`_keep_off`, computed."""
         points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
         unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
         return (np.concatenate((points, unknown_points)),
