@@ -203,3 +203,14 @@ def test_inflate_grows_as_one_offset_at_a_time(radius_cells):
         blocked = rng.random(shape) < 0.05
         np.testing.assert_array_equal(planner.inflate(blocked, radius_cells),
                                       reference_inflate(blocked, radius_cells))
+
+
+def test_integer_square_roots_are_exact_to_the_largest_squares():
+    from can_seeker.control.grid_map import _isqrt
+    rng = np.random.default_rng(3)
+    roots = np.concatenate((np.arange(0, 2000), rng.integers(0, 2 ** 31, 5000),
+                            [2 ** 26 - 1, 2 ** 26, 2 ** 26 + 1, 94906265, 94906266, 2 ** 31 - 1]))
+    squares = roots * roots
+    values = np.concatenate((squares, squares + 1, np.maximum(squares - 1, 0),
+                             rng.integers(0, 2 ** 62, 5000)))
+    np.testing.assert_array_equal(_isqrt(values), [math.isqrt(int(v)) for v in values])

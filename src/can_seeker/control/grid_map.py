@@ -168,11 +168,13 @@ class GridMap:
                                          self._fine_um // RAY_STEPS_PER_CELL)
         fine_cells, coarse_cells = self._sample_cells(points)
         coarse_fractions = fractions[::OBSERVED_SUBDIVISION]
-        reach = coarse_fractions[None, :] + np.where(hits, self._resolution_um, 0)[:, None]
-        along = reach * reach <= squared[:, None]
+        # A sample at f lies no farther than r from the origin where f <= isqrt(r^2).
+        length_um = _isqrt(squared)
+        along = coarse_fractions[None, :] <= (length_um - np.where(hits, self._resolution_um,
+                                                                   0))[:, None]
         beyond_blind = coarse_fractions[None, :] >= clear_um
         free = self._marked(coarse_cells[along & beyond_blind])
-        within_blind = (coarse_fractions * coarse_fractions)[None, :] <= squared[:, None]
+        within_blind = coarse_fractions[None, :] <= length_um[:, None]
         within_blind &= ~beyond_blind
         blind = self._marked(coarse_cells[within_blind])
         edge_um = clear_um + int(lattice(BLIND_EDGE_M))
@@ -193,8 +195,8 @@ class GridMap:
         self.hit_xy[hx[first], hy[first]] = hit_xy[first]
         free &= ~hit
         blind &= ~hit
-        fine_reach = fractions[None, :] + np.where(hits, self._fine_um, 0)[:, None]
-        fine_free = (fine_reach * fine_reach <= squared[:, None]) & (fractions[None, :] >= clear_um)
+        fine_free = ((fractions[None, :] <= (length_um - np.where(hits, self._fine_um, 0))[:, None])
+                     & (fractions[None, :] >= clear_um))
         hx, hy, hit_inside = self._lattice_index(ends[hits], self._fine_um, len(self.observed))
         observed = self.observed.reshape(-1)
         seen_free = fine_cells[fine_free]
@@ -209,13 +211,16 @@ class GridMap:
 
     def _sample_cells(self, points_um: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """(fine, coarse) flat indices of the cells holding the fine samples ``points_um``
-        (N x M x 2, whole um) and of every :data:`OBSERVED_SUBDIVISION`-th of them (the coarse
-        samples), -1 outside the grid (see :meth:`_lattice_index`; a fine cell's indices
-        divided by the subdivision are its coarse cell's)."""
+        (N x M x 2, whole um; overwritten) and of every :data:`OBSERVED_SUBDIVISION`-th of
+        them (the coarse samples), -1 outside the grid (see :meth:`_lattice_index`; a fine
+        cell's indices divided by the subdivision are its coarse cell's)."""
         fine_cells = len(self.observed)
-        fx = np.floor((points_um[..., 0] - self._origin_um) / self._fine_um).astype(np.int64)
-        fy = np.floor((points_um[..., 1] - self._origin_um) / self._fine_um).astype(np.int64)
-        inside = (fx >= 0) & (fx < fine_cells) & (fy >= 0) & (fy < fine_cells)
+        np.subtract(points_um, self._origin_um, out=points_um)
+        np.divide(points_um, self._fine_um, out=points_um)
+        np.floor(points_um, out=points_um)
+        fx, fy = points_um[..., 0].astype(np.int64), points_um[..., 1].astype(np.int64)
+        # negative indices wrap to huge unsigned ones: one comparison per bound
+        inside = ((fx.view(np.uint64) < fine_cells) & (fy.view(np.uint64) < fine_cells))
         fine = np.where(inside, fx * fine_cells + fy, -1)
         step = OBSERVED_SUBDIVISION
         coarse = np.where(inside[:, ::step], (fx[:, ::step] // step) * self.cells
@@ -353,6 +358,15 @@ def _within(points_um: np.ndarray, centre_um: np.ndarray, radius_um: int) -> np.
     ``centre_um`` (exact: squared integer distances)."""
     offsets = points_um - centre_um
     return (offsets * offsets).sum(axis=-1) <= radius_um * radius_um
+
+
+def _isqrt(squared: np.ndarray) -> np.ndarray:
+    """Integer square roots (floor) of ``squared`` (int64, >= 0), exact: the float root is
+    within one of it, and integer squares decide."""
+    root = np.sqrt(squared.astype(float)).astype(np.int64)
+    root -= root * root > squared
+    root += (root + 1) * (root + 1) <= squared
+    return root
 
 
 def _ray_samples(origin: np.ndarray, offsets: np.ndarray, squared: np.ndarray,
