@@ -214,3 +214,37 @@ def test_integer_square_roots_are_exact_to_the_largest_squares():
     values = np.concatenate((squares, squares + 1, np.maximum(squares - 1, 0),
                              rng.integers(0, 2 ** 62, 5000)))
     np.testing.assert_array_equal(_isqrt(values), [math.isqrt(int(v)) for v in values])
+
+
+def test_the_robot_body_and_the_camera_wedge_mark_as_whole_grid_masks_do():
+    rng = np.random.default_rng(11)
+    grid = GridMap(0.1, 6.0)
+    for _ in range(5):
+        ends, hits = random_scan(rng, (0.0, 0.0), 200, 2.5, None, 0.1)
+        grid.add_scan((0.0, 0.0), ends, hits, 0.1)
+    for _ in range(60):
+        centre, radius_m = rng.uniform(-3.3, 3.3, 2), rng.uniform(0.0, 0.4)
+        expected = grid.observed.copy()
+        fx, fy = np.meshgrid(np.arange(len(expected)), np.arange(len(expected)), indexing='ij')
+        centres = grid._centres_um(fx, fy, grid._fine_um)
+        expected |= _within(centres, lattice(centre), int(lattice(radius_m)))
+        grid.mark_observed(centre, radius_m)
+        np.testing.assert_array_equal(grid.observed, expected)
+        seen = grid.seen.copy()
+        heading, half_fov = rng.uniform(-math.pi, math.pi), rng.uniform(0.1, 0.8)
+        near_m, far_m = rng.uniform(0.0, 0.5), rng.uniform(0.3, 3.0)
+        step_um = grid._resolution_um // RAY_STEPS_PER_CELL
+        near_um, far_um = int(lattice(near_m)), int(lattice(far_m))
+        if far_um > near_um:
+            rays = -(-int(lattice(2.0 * half_fov * far_m)) // step_um) + 1
+            bearings = heading + np.linspace(-half_fov, half_fov, rays)
+            distances_um = np.arange(far_um // step_um + 1) * step_um
+            points = (centre[None, None, :] + (distances_um / 1e6)[None, :, None]
+                      * np.stack((np.cos(bearings), np.sin(bearings)), axis=-1)[:, None, :])
+            ix, iy, inside = grid.index_of(points.reshape(-1, 2))
+            blocked = (grid.occupied()[ix, iy] | ~inside).reshape(rays, len(distances_um))
+            visible = ~np.maximum.accumulate(blocked, axis=1)
+            visible &= distances_um[None, :] >= near_um
+            seen[ix[visible.reshape(-1)], iy[visible.reshape(-1)]] = True
+        grid.mark_seen(centre, heading, half_fov, near_m, far_m)
+        np.testing.assert_array_equal(grid.seen, seen)

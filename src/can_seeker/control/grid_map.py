@@ -249,7 +249,7 @@ class GridMap:
                   + (distances_um / SCALE)[None, :, None]
                   * np.stack((np.cos(bearings), np.sin(bearings)), axis=-1)[:, None, :])
         ix, iy, inside = self.index_of(points.reshape(-1, 2))
-        blocked = (self.occupied()[ix, iy] | ~inside).reshape(rays, len(distances_um))
+        blocked = (self.occupied_at(ix, iy) | ~inside).reshape(rays, len(distances_um))
         visible = ~np.maximum.accumulate(blocked, axis=1)
         visible &= distances_um[None, :] >= near_um
         visible = visible.reshape(-1)
@@ -263,8 +263,11 @@ class GridMap:
         if len(fx) == 0 or len(fy) == 0:
             return
         self.changes += 1
-        centres = self._centres_um(*np.meshgrid(fx, fy, indexing='ij'), self._fine_um)
-        self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= _within(centres, centre, radius_um)
+        # the disc's squared distances as a sum of a column and a row (exact integers)
+        dx = self._origin_um + fx * self._fine_um + self._fine_um // 2 - centre[0]
+        dy = self._origin_um + fy * self._fine_um + self._fine_um // 2 - centre[1]
+        self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= (
+            (dx * dx)[:, None] + (dy * dy)[None, :] <= radius_um * radius_um)
 
     def unknown_points(self, centre_xy, radius_m: float, max_blind_disc_s: float = np.inf,
                        max_blind_s: float = np.inf) -> np.ndarray:
