@@ -25,6 +25,9 @@ GOAL_REACHED_M = 0.25
 LOOKAHEAD_M = 0.5
 MIN_LOOKAHEAD_M = 0.2
 CLEAR_AHEAD_M = 0.3
+WAVEFRONTS_KEPT = 4
+"""Wavefronts kept for plans through the same cells (one per margin, for paths and
+exploration)."""
 PATH_SWITCH_M = 0.5
 """A new path replaces a still clear one to the same goal only when it is this much shorter
 (m), and a new exploration goal replaces one still unseen only when it costs this much less:
@@ -152,6 +155,7 @@ class Navigator:
         self.candidates: List[np.ndarray] = []
         self.candidates_viewed: List[bool] = []
         self._keep_off_memo: Tuple = (None, None)
+        self._wavefronts: Dict[Tuple, np.ndarray] = {}
 
     def reset(self) -> None:
         """Forget the map, the pose, the last scans and the places the can may stand."""
@@ -368,7 +372,21 @@ class Navigator:
                                     / self.grid.resolution_m)
             bare = window.crop(self.blocked_cells(exclude_xy, exclude_radius_m, 0.0))
             blocked &= ~(about & ~bare)
-        return window, blocked, planner.wavefront(~blocked, local_start)
+        return window, blocked, self._wavefront(blocked, local_start)
+
+    def _wavefront(self, blocked: np.ndarray, start: Tuple[int, int]) -> np.ndarray:
+        """:func:`planner.wavefront` through the cells not ``blocked`` from ``start``
+        (read-only); the last few are kept, as between two changes of the map the paths, the
+        frontier and each margin plan through the same cells again."""
+        key = (blocked.shape, start, np.packbits(blocked).tobytes())
+        distance = self._wavefronts.pop(key, None)
+        if distance is None:
+            distance = planner.wavefront(~blocked, start)
+            distance.flags.writeable = False
+        self._wavefronts[key] = distance
+        while len(self._wavefronts) > WAVEFRONTS_KEPT:
+            del self._wavefronts[next(iter(self._wavefronts))]
+        return distance
 
     @property
     def plan_margins_m(self) -> Tuple[float, ...]:
