@@ -6,6 +6,7 @@ Jacobi sweeps over the whole window until nothing changes. Both do the same inte
 operations on each value, so the layers, distances and plans must be equal exactly.
 """
 import math
+import os
 
 import numpy as np
 import pytest
@@ -248,3 +249,29 @@ def test_the_robot_body_and_the_camera_wedge_mark_as_whole_grid_masks_do():
             seen[ix[visible.reshape(-1)], iy[visible.reshape(-1)]] = True
         grid.mark_seen(centre, heading, half_fov, near_m, far_m)
         np.testing.assert_array_equal(grid.seen, seen)
+
+
+def recorded_scans():
+    """The first 40 camera scans of a realistic room trial (seed 1001), in odom, as the
+    controller passed them to its grid (stored as float32; see test/data/README.md)."""
+    data = np.load(os.path.join(os.path.dirname(__file__), '..', 'data', 'camera_scans_room.npz'))
+    starts = np.concatenate(([0], np.cumsum(data['ray_counts'])))
+    for index, origin in enumerate(data['origins'].astype(float)):
+        rays = slice(starts[index], starts[index + 1])
+        yield (origin, data['ends'][rays].astype(float), data['hits'][rays],
+               float(data['clear_from_m'][index]), float(data['stamps_s'][index]))
+
+
+def test_recorded_scans_mark_the_layers_and_plan_as_the_straightforward_computation():
+    grid, reference = GridMap(0.1, 20.0), GridMap(0.1, 20.0)
+    for origin, ends, hits, clear_from_m, stamp_s in recorded_scans():
+        grid.add_scan(origin, ends, hits, clear_from_m, stamp_s, 'camera_scan')
+        reference_add_scan(reference, origin, ends, hits, clear_from_m, stamp_s, 'camera_scan')
+        assert_same_layers(grid, reference)
+        blocked = reference_inflate(reference.occupied(), (0.165 + 0.15) / 0.1)
+        np.testing.assert_array_equal(planner.inflate(grid.occupied(), (0.165 + 0.15) / 0.1),
+                                      blocked)
+        start = grid.cell_of(*origin)
+        np.testing.assert_array_equal(planner.wavefront(~blocked, start),
+                                      reference_wavefront(~blocked, start))
+    assert (grid.evidence > 0).sum() > 50 and grid.observed.sum() > 1000
