@@ -58,9 +58,13 @@ class GridMap:
         self.scan_s: Dict[str, float] = {}
         self.hit_xy = np.zeros((self.cells, self.cells, 2))
         self.contact = np.zeros((self.cells, self.cells), bool)
+        self.changes = 0
+        """Counts the calls that changed the obstacle and observed layers (scans, contacts,
+        the robot's body, clearing): answers derived from them stay valid while it stands."""
 
     def clear(self) -> None:
         """Forget every obstacle and all coverage."""
+        self.changes += 1
         self.evidence[:] = 0
         self.seen[:] = False
         self.observed[:] = False
@@ -118,6 +122,7 @@ class GridMap:
         cell = self.cell_of(*xy)
         if cell is None:
             return
+        self.changes += 1
         self.contact[cell] = True
         self.hit_xy[cell] = xy
 
@@ -135,6 +140,7 @@ class GridMap:
         every half resolution from its origin; a sample counts along the ray while it is no
         farther from the origin than the ray's end (one resolution nearer for a hit, so the
         hit's own cell stays occupied)."""
+        self.changes += 1
         ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
         previous_s = self.scan_s.get(source)
         elapsed = 0.0 if previous_s is None else elapsed_s(stamp_s, previous_s)
@@ -156,19 +162,25 @@ class GridMap:
         ends = lattice(ends_xy)
         offsets = ends - origin
         squared = (offsets * offsets).sum(axis=1)
+        # One sampling serves both layers: every OBSERVED_SUBDIVISION-th fine sample is a coarse
+        # one (the same lattice point), as a coarse cell is that many fine cells a side.
         points, fractions = _ray_samples(origin, offsets, squared,
-                                         self._resolution_um // RAY_STEPS_PER_CELL)
-        reach = fractions[None, :] + np.where(hits, self._resolution_um, 0)[:, None]
-        along = reach * reach <= squared[:, None]
-        beyond_blind = fractions[None, :] >= clear_um
-        free = self._cells(points[along & beyond_blind])
-        within_blind = (fractions * fractions)[None, :] <= squared[:, None]
+                                         self._fine_um // RAY_STEPS_PER_CELL)
+        fine_cells, coarse_cells = self._sample_cells(points)
+        coarse_fractions = fractions[::OBSERVED_SUBDIVISION]
+        # A sample at f lies no farther than r from the origin where f <= isqrt(r^2).
+        length_um = _isqrt(squared)
+        along = coarse_fractions[None, :] <= (length_um - np.where(hits, self._resolution_um,
+                                                                   0))[:, None]
+        beyond_blind = coarse_fractions[None, :] >= clear_um
+        free = self._marked(coarse_cells[along & beyond_blind])
+        within_blind = coarse_fractions[None, :] <= length_um[:, None]
         within_blind &= ~beyond_blind
-        blind = self._cells(points[within_blind])
+        blind = self._marked(coarse_cells[within_blind])
         edge_um = clear_um + int(lattice(BLIND_EDGE_M))
         at_edge = hits & (squared <= edge_um * edge_um)
-        kept = (self._cells(points[within_blind & at_edge[:, None]]) & (self.evidence > 0)
-                if at_edge.any() else None)
+        kept = (self._marked(coarse_cells[within_blind & at_edge[:, None]])
+                & (self.evidence > 0) if at_edge.any() else None)
         if disc_window is not None:
             blind[disc_window[0]] |= disc_window[1]
         # nearest to the sensor first: where one cell has several hits, that one is kept
@@ -183,7 +195,13 @@ class GridMap:
         self.hit_xy[hx[first], hy[first]] = hit_xy[first]
         free &= ~hit
         blind &= ~hit
-        self._observe_rays(origin, ends, offsets, squared, hits, clear_um)
+        fine_free = ((fractions[None, :] <= (length_um - np.where(hits, self._fine_um, 0))[:, None])
+                     & (fractions[None, :] >= clear_um))
+        hx, hy, hit_inside = self._lattice_index(ends[hits], self._fine_um, len(self.observed))
+        observed = self.observed.reshape(-1)
+        seen_free = fine_cells[fine_free]
+        observed[seen_free[seen_free >= 0]] = True
+        observed[hx[hit_inside] * len(self.observed) + hy[hit_inside]] = True
         self.evidence[free] = np.maximum(self.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
         self.evidence[hit] = np.minimum(self.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
         self.blind_s[hit] = 0.0
@@ -191,26 +209,29 @@ class GridMap:
         if kept is not None:
             self.blind_s[kept] = 0.0
 
-    def _observe_rays(self, origin: np.ndarray, ends: np.ndarray, offsets: np.ndarray,
-                      squared: np.ndarray, hits: np.ndarray, clear_um: int) -> None:
-        """Mark the fine cells along the rays (from ``origin`` to ``ends``, um; ``offsets``
-        between them, ``squared`` their squared lengths) from ``clear_um`` on as observed, up
-        to one fine cell short of a hit, and the hit's own fine cell."""
-        points, fractions = _ray_samples(origin, offsets, squared,
-                                         self._fine_um // RAY_STEPS_PER_CELL)
-        reach = fractions[None, :] + np.where(hits, self._fine_um, 0)[:, None]
-        free = (reach * reach <= squared[:, None]) & (fractions[None, :] >= clear_um)
-        fx, fy, inside = self._lattice_index(np.concatenate((points[free], ends[hits])),
-                                             self._fine_um, len(self.observed))
-        self.observed[fx[inside], fy[inside]] = True
+    def _sample_cells(self, points_um: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """(fine, coarse) flat indices of the cells holding the fine samples ``points_um``
+        (N x M x 2, whole um; overwritten) and of every :data:`OBSERVED_SUBDIVISION`-th of
+        them (the coarse samples), -1 outside the grid (see :meth:`_lattice_index`; a fine
+        cell's indices divided by the subdivision are its coarse cell's)."""
+        fine_cells = len(self.observed)
+        np.subtract(points_um, self._origin_um, out=points_um)
+        np.divide(points_um, self._fine_um, out=points_um)
+        np.floor(points_um, out=points_um)
+        fx, fy = points_um[..., 0].astype(np.int64), points_um[..., 1].astype(np.int64)
+        # negative indices wrap to huge unsigned ones: one comparison per bound
+        inside = ((fx.view(np.uint64) < fine_cells) & (fy.view(np.uint64) < fine_cells))
+        fine = np.where(inside, fx * fine_cells + fy, -1)
+        step = OBSERVED_SUBDIVISION
+        coarse = np.where(inside[:, ::step], (fx[:, ::step] // step) * self.cells
+                          + fy[:, ::step] // step, -1)
+        return fine, coarse
 
-    def _cells(self, xy_um: np.ndarray) -> np.ndarray:
-        """Boolean grid of the cells holding any of the points ``xy_um`` (outside: none)."""
-        ix, iy, inside = self._lattice_index(xy_um.reshape(-1, 2), self._resolution_um,
-                                             self.cells)
-        cells = np.zeros_like(self.seen)
-        cells[ix[inside], iy[inside]] = True
-        return cells
+    def _marked(self, flat_cells: np.ndarray) -> np.ndarray:
+        """Boolean coarse layer of the cells ``flat_cells`` (flat indices, -1: outside, none)."""
+        marked = np.zeros(self.cells * self.cells + 1, bool)
+        marked[flat_cells] = True
+        return marked[:-1].reshape(self.cells, self.cells)
 
     def mark_seen(self, camera_xy, heading_rad: float, half_fov_rad: float, near_m: float,
                   far_m: float) -> None:
@@ -228,7 +249,7 @@ class GridMap:
                   + (distances_um / SCALE)[None, :, None]
                   * np.stack((np.cos(bearings), np.sin(bearings)), axis=-1)[:, None, :])
         ix, iy, inside = self.index_of(points.reshape(-1, 2))
-        blocked = (self.occupied()[ix, iy] | ~inside).reshape(rays, len(distances_um))
+        blocked = (self.occupied_at(ix, iy) | ~inside).reshape(rays, len(distances_um))
         visible = ~np.maximum.accumulate(blocked, axis=1)
         visible &= distances_um[None, :] >= near_um
         visible = visible.reshape(-1)
@@ -241,8 +262,12 @@ class GridMap:
         fx, fy = self._window(centre, radius_um, self._fine_um, len(self.observed))
         if len(fx) == 0 or len(fy) == 0:
             return
-        centres = self._centres_um(*np.meshgrid(fx, fy, indexing='ij'), self._fine_um)
-        self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= _within(centres, centre, radius_um)
+        self.changes += 1
+        # the disc's squared distances as a sum of a column and a row (exact integers)
+        dx = self._origin_um + fx * self._fine_um + self._fine_um // 2 - centre[0]
+        dy = self._origin_um + fy * self._fine_um + self._fine_um // 2 - centre[1]
+        self.observed[fx[0]:fx[-1] + 1, fy[0]:fy[-1] + 1] |= (
+            (dx * dx)[:, None] + (dy * dy)[None, :] <= radius_um * radius_um)
 
     def unknown_points(self, centre_xy, radius_m: float, max_blind_disc_s: float = np.inf,
                        max_blind_s: float = np.inf) -> np.ndarray:
@@ -336,6 +361,15 @@ def _within(points_um: np.ndarray, centre_um: np.ndarray, radius_um: int) -> np.
     ``centre_um`` (exact: squared integer distances)."""
     offsets = points_um - centre_um
     return (offsets * offsets).sum(axis=-1) <= radius_um * radius_um
+
+
+def _isqrt(squared: np.ndarray) -> np.ndarray:
+    """Integer square roots (floor) of ``squared`` (int64, >= 0), exact: the float root is
+    within one of it, and integer squares decide."""
+    root = np.sqrt(squared.astype(float)).astype(np.int64)
+    root -= root * root > squared
+    root += (root + 1) * (root + 1) <= squared
+    return root
 
 
 def _ray_samples(origin: np.ndarray, offsets: np.ndarray, squared: np.ndarray,

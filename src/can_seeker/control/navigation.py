@@ -25,6 +25,9 @@ GOAL_REACHED_M = 0.25
 LOOKAHEAD_M = 0.5
 MIN_LOOKAHEAD_M = 0.2
 CLEAR_AHEAD_M = 0.3
+WAVEFRONTS_KEPT = 4
+"""Wavefronts kept for plans through the same cells (one per margin, for paths and
+exploration)."""
 PATH_SWITCH_M = 0.5
 """A new path replaces a still clear one to the same goal only when it is this much shorter
 (m), and a new exploration goal replaces one still unseen only when it costs this much less:
@@ -151,6 +154,8 @@ class Navigator:
         self.last_scans: Dict[str, Tuple[np.ndarray, Pose2D]] = {}
         self.candidates: List[np.ndarray] = []
         self.candidates_viewed: List[bool] = []
+        self._keep_off_memo: Tuple = (None, None)
+        self._wavefronts: Dict[Tuple, np.ndarray] = {}
 
     def reset(self) -> None:
         """Forget the map, the pose, the last scans and the places the can may stand."""
@@ -298,7 +303,7 @@ class Navigator:
                                                 SAFETY_HORIZON_M)
         if index is None or index < obstacles:
             return travel_m, None
-        return travel_m, points[index]
+        return travel_m, points[index].copy()
 
     def free_travel_toward_m(self, targets_base: np.ndarray, exclude_xy=None,
                              exclude_radius_m: float = 0.0) -> np.ndarray:
@@ -314,7 +319,18 @@ class Navigator:
     def _keep_off(self, exclude_xy, exclude_radius_m: float) -> Tuple[np.ndarray, np.ndarray,
                                                                        int]:
         """(points N x 2 in base_link, clearance m each, how many of them are obstacles) that
-        the safety layer keeps the robot from: the obstacles first, then the unknown floor."""
+        the safety layer keeps the robot from: the obstacles first, then the unknown floor.
+        The last answer is kept while the pose, the map and the exclusion stay the same (the
+        checks of one tick ask several times)."""
+        key = (self.pose, self.grid.changes, None if exclude_xy is None
+               else tuple(float(v) for v in exclude_xy), exclude_radius_m)
+        if self._keep_off_memo[0] != key:
+            self._keep_off_memo = key, self._points_to_keep_off(exclude_xy, exclude_radius_m)
+        return self._keep_off_memo[1]
+
+    def _points_to_keep_off(self, exclude_xy, exclude_radius_m: float) -> Tuple[np.ndarray,
+                                                                                 np.ndarray, int]:
+        """:meth:`_keep_off`, computed."""
         points, clearance = self.obstacles_base(exclude_xy, exclude_radius_m)
         unknown_points, unknown_clearance = self.unknown_base(exclude_xy, exclude_radius_m)
         return (np.concatenate((points, unknown_points)),
@@ -356,7 +372,21 @@ class Navigator:
                                     / self.grid.resolution_m)
             bare = window.crop(self.blocked_cells(exclude_xy, exclude_radius_m, 0.0))
             blocked &= ~(about & ~bare)
-        return window, blocked, planner.wavefront(~blocked, local_start)
+        return window, blocked, self._wavefront(blocked, local_start)
+
+    def _wavefront(self, blocked: np.ndarray, start: Tuple[int, int]) -> np.ndarray:
+        """:func:`planner.wavefront` through the cells not ``blocked`` from ``start``
+        (read-only); the last few are kept, as between two changes of the map the paths, the
+        frontier and each margin plan through the same cells again."""
+        key = (blocked.shape, start, np.packbits(blocked).tobytes())
+        distance = self._wavefronts.pop(key, None)
+        if distance is None:
+            distance = planner.wavefront(~blocked, start)
+            distance.flags.writeable = False
+        self._wavefronts[key] = distance
+        while len(self._wavefronts) > WAVEFRONTS_KEPT:
+            del self._wavefronts[next(iter(self._wavefronts))]
+        return distance
 
     @property
     def plan_margins_m(self) -> Tuple[float, ...]:

@@ -29,32 +29,60 @@ def shifted(array: np.ndarray, dx: int, dy: int, fill) -> np.ndarray:
 
 
 def inflate(blocked: np.ndarray, radius_cells: float) -> np.ndarray:
-    """Cells within ``radius_cells`` (centre to centre) of a blocked cell."""
-    grown = blocked.copy()
+    """Cells within ``radius_cells`` (centre to centre) of a blocked cell: the disc as rows of
+    offsets, each row the blocked cells grown along y by its half width, moved along x."""
     reach = int(math.floor(radius_cells))
-    for dx in range(-reach, reach + 1):
-        for dy in range(-reach, reach + 1):
-            if (dx or dy) and dx * dx + dy * dy <= radius_cells * radius_cells:
-                grown |= shifted(blocked, dx, dy, False)
+    half_widths = [max([dy for dy in range(reach + 1) if dx * dx + dy * dy
+                        <= radius_cells * radius_cells], default=-1)
+                   for dx in range(-reach, reach + 1)]
+    along_y = [blocked]
+    for half_width in range(1, max(half_widths) + 1):
+        along_y.append(along_y[-1] | shifted(blocked, 0, half_width, False)
+                       | shifted(blocked, 0, -half_width, False))
+    grown = blocked.copy()
+    for dx, half_width in zip(range(-reach, reach + 1), half_widths):
+        if half_width >= 0:
+            grown |= shifted(along_y[half_width], dx, 0, False)
     return grown
 
 
 def wavefront(free: np.ndarray, start: Tuple[int, int]) -> np.ndarray:
     """Path length in cells from ``start`` to every cell through ``free`` cells (inf where
-    unreachable). The start counts as free."""
-    distance = np.full(free.shape, np.inf)
-    distance[start] = 0.0
-    passable = free.copy()
-    passable[start] = True
+    unreachable). The start counts as free.
+
+    Each cell's length is the least, over the paths to it, of the steps' costs added one by
+    one from the start: relaxed in place (each neighbour's step in turn) over only the rows
+    next to those the last sweep shortened, until a sweep shortens none. Every order of such
+    relaxations ends at those least sums (a float sum only grows with each step), so this
+    gives the lengths of whole-grid sweeps to the last bit."""
+    nx, ny = free.shape
+    width = ny + 2
+    # Row-major with a border of blocked cells all round and one more cell at either end: a
+    # neighbour is a fixed offset away, and the rows a sweep covers are one contiguous run.
+    passable = np.zeros((nx + 2, width), bool)
+    passable[1:-1, 1:-1] = free
+    passable[start[0] + 1, start[1] + 1] = True
+    passable = np.concatenate(([False], passable.reshape(-1), [False]))
+    distance = np.full(len(passable), np.inf)
+    distance[1 + (start[0] + 1) * width + start[1] + 1] = 0.0
+    # a step's cost into each cell: inf into a blocked one (x + 0.0 is x to the last bit)
+    step_costs = {cost: np.where(passable, cost, np.inf) for cost in {1.0, math.sqrt(2.0)}}
+    offsets = [(dx * width + dy, cost) for dx, dy, cost in NEIGHBOURS]
+    low, high = start[0] + 1, start[0] + 2
     while True:
-        best = distance
-        for dx, dy, cost in NEIGHBOURS:
-            best = np.minimum(best, shifted(distance, dx, dy, np.inf) + cost)
-        best[~passable] = np.inf
-        best[start] = 0.0
-        if np.array_equal(best, distance):
-            return distance
-        distance = best
+        low, high = max(low - 1, 1), min(high + 1, nx + 1)
+        begin, end = 1 + low * width, 1 + high * width
+        region = distance[begin:end]
+        before = region.copy()
+        reached = np.empty_like(region)
+        for offset, cost in offsets:
+            np.add(distance[begin - offset:end - offset], step_costs[cost][begin:end],
+                   out=reached)
+            np.minimum(region, reached, out=region)
+        changed = np.flatnonzero(region != before)
+        if len(changed) == 0:
+            return distance[1:-1].reshape(nx + 2, width)[1:-1, 1:-1].copy()
+        low, high = low + int(changed[0]) // width, low + int(changed[-1]) // width + 1
 
 
 def descend(distance: np.ndarray, goal: Tuple[int, int]) -> List[Tuple[int, int]]:
