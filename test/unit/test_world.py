@@ -207,6 +207,12 @@ def test_can_colour_changes_the_image(world):
         world.set_can_color((0.8, 0.05, 0.05, 1.0))
 
 
+def test_rgba_to_image_is_the_channels_reversed_or_kept():
+    rgba = np.random.default_rng(3).integers(0, 256, (24, 32, 4), dtype=np.uint8)
+    assert np.array_equal(rgba_to_image(rgba, 'bgr8'), rgba[:, :, 2::-1])
+    assert np.array_equal(rgba_to_image(rgba, 'rgb8'), rgba[:, :, :3])
+
+
 def test_rgba_to_image_orders_channels():
     rgba = np.zeros((2, 3, 4), np.uint8)
     rgba[..., 0], rgba[..., 1], rgba[..., 2], rgba[..., 3] = 10, 20, 30, 255
