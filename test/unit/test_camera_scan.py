@@ -3,6 +3,7 @@ rendered by the simulator's pybullet world with obstacles of known geometry."""
 import math
 import pathlib
 
+import cv2
 import numpy as np
 import pybullet
 import pytest
@@ -233,6 +234,25 @@ def room():
             return world
 
         yield paint
+
+
+def test_one_opencv_thread_scans_what_the_default_threads_scan(room):
+    """obstacle_scan runs OpenCV on one thread: its masks and ranges stay the very same."""
+    frames = [room(floor, (0.6, 0.45, 0.3, 1)).render()
+              for floor in ((0.3, 0.45, 0.6, 1), (0.32, 0.46, 0.58, 1))]
+    default_threads = cv2.getNumThreads()
+    results = []
+    try:
+        for threads in (default_threads, 1):
+            cv2.setNumThreads(threads)
+            scanner = CameraScanner()
+            results.append([scanner.scan(frame, POSE, INTRINSICS) for frame in frames])
+    finally:
+        cv2.setNumThreads(default_threads)
+    assert np.isfinite(results[0][-1].ranges).any()
+    for default, single in zip(*results):
+        assert np.array_equal(default.obstacles, single.obstacles)
+        assert np.array_equal(default.ranges, single.ranges, equal_nan=True)
 
 
 @pytest.mark.parametrize('floor,obstacle', [

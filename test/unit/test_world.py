@@ -77,6 +77,14 @@ def test_turning_in_place_covers_rate_times_time(world):
     assert math.hypot(*state.position[:2]) < 0.002
 
 
+def test_robot_pose_is_robot_states_pose(world):
+    """The odometry reads the pose without the twist: the very numbers robot_state holds."""
+    drive(world, 0.2, 0.8, 0.7)
+    state = world.robot_state()
+    assert world.robot_pose() == (state.position[0], state.position[1], state.yaw_rad)
+    assert world.robot_pose()[2] == pytest.approx(0.8 * 0.7, rel=0.02)
+
+
 def test_twist_is_reported_in_base_link(world):
     limiter = TwistLimiter(1.0, 4.0)
     drive(world, 0.0, 1.0, math.pi / 2, limiter)
@@ -197,6 +205,12 @@ def test_can_colour_changes_the_image(world):
         assert red_pixels(world.render('bgr8')).sum() == 0
     finally:
         world.set_can_color((0.8, 0.05, 0.05, 1.0))
+
+
+def test_rgba_to_image_is_the_channels_reversed_or_kept():
+    rgba = np.random.default_rng(3).integers(0, 256, (24, 32, 4), dtype=np.uint8)
+    assert np.array_equal(rgba_to_image(rgba, 'bgr8'), rgba[:, :, 2::-1])
+    assert np.array_equal(rgba_to_image(rgba, 'rgb8'), rgba[:, :, :3])
 
 
 def test_rgba_to_image_orders_channels():

@@ -13,7 +13,6 @@ geometry uses unless ``~image_rectified``.
 """
 import time
 
-import cv2
 import numpy as np
 import rospy
 import tf2_ros
@@ -27,6 +26,7 @@ from can_seeker.gui.display_check import OPENCV_WINDOW_PROBE, display_problem
 from can_seeker.gui.windows import ImageWindows
 from can_seeker.health import ERROR, OK, WARN, Outcomes
 from can_seeker.msg import CanDetection
+from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.ros.diagnostics import image_diagnostics
@@ -42,10 +42,6 @@ from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCa
 
 PARAMS = REPORT_PARAMS + (IMAGE_TRANSPORT_PARAM,)
 ERROR_PERIOD_S = 5.0
-OPENCV_THREADS = 1
-"""OpenCV worker threads: one frame's passes are too short to share (tens of microseconds at
-640x480), and idle TBB workers spin after each one; a single thread costs about 0.2 ms less CPU
-per frame and leaves the other core to the camera and the controller."""
 
 
 def frame_outcome(found, range_m, intrinsics, pose, frame_problem=None):
@@ -210,7 +206,7 @@ class ImageConverterNode:
 
 def main():
     reuse_freed_memory()
-    cv2.setNumThreads(OPENCV_THREADS)
+    use_one_opencv_thread()
     rospy.init_node('image_converter')
     warn_unless_remapped('image', 'camera_info')
     ImageConverterNode()

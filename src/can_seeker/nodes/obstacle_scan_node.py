@@ -26,6 +26,7 @@ from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import CAMERA_INFO_PARAMS, intrinsics_from_camera_info
 from can_seeker.camera_mount import FALLBACK_MOUNT_PARAMS
 from can_seeker.health import ERROR, OK, Outcomes
+from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.ros.diagnostics import image_diagnostics
@@ -160,6 +161,7 @@ class ObstacleScanNode:
 
 def main():
     reuse_freed_memory()
+    use_one_opencv_thread()
     rospy.init_node('obstacle_scan')
     ObstacleScanNode()
     rospy.spin()

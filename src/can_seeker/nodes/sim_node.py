@@ -39,6 +39,7 @@ from can_seeker.sim.lockstep import LockstepGate, header_stamp_s
 from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.gui.display_check import X11_PROBE, display_problem
 from can_seeker.health import WARN, InputMonitor
+from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import parse_topics, read_params, unread_health, unread_params
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import camera_info, odometry, transform_stamped
@@ -434,6 +435,7 @@ class SimNode:
 
 def main():
     """Run the ``sim`` node."""
+    use_one_opencv_thread()
     rospy.init_node('sim')
     try:
         node = SimNode()

@@ -449,14 +449,11 @@ class Simulation:
                    config.encoding, lidar_spec(config), config.scan_rate, realism, config.seed,
                    config.clock_rate)
 
-    def _true_pose(self) -> Tuple[float, float, float]:
-        state = self.world.robot_state()
-        return state.position[0], state.position[1], state.yaw_rad
-
     def _new_trial(self):
         """Reseed the realism models from the world's seed and the can's place (a trial is the
         same whatever ran before it) and start the odometry at the true pose."""
-        self.realism.new_trial(trial_key(self.seed, self.world.can_home), self._true_pose())
+        self.realism.new_trial(trial_key(self.seed, self.world.can_home),
+                               self.world.robot_pose())
 
     def odometry(self) -> Odometry2D:
         """The robot's odometry now: the true pose and twist when the odometry has no error."""
@@ -558,8 +555,8 @@ class Simulation:
             half_track = self.world.wheel_separation_m / 2.0
             linear_accel = (linear_mps - before[0]) / dt_s
             turn_accel = (angular_radps - before[1]) * half_track / dt_s
-            realism.odometry.update(self._true_pose(), dt_s, (linear_accel - turn_accel,
-                                                              linear_accel + turn_accel))
+            realism.odometry.update(self.world.robot_pose(), dt_s,
+                                    (linear_accel - turn_accel, linear_accel + turn_accel))
         touched, front = self.world.touches()
         self._touched = self._touched | touched
         self._bumped = self._bumped or front
