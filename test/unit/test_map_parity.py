@@ -157,7 +157,8 @@ def test_scans_mark_the_layers_as_the_per_layer_sampling_does(seed):
         world.update_from_scan(position, ends, hits, blind_m, stamp_s, source)
         reference_add_scan(reference, position, ends, hits, blind_m, stamp_s, source)
         assert_same_layers(world, reference)
-    assert (world.obstacles.evidence > 0).any() and (world.obstacles.evidence < 0).any() and world.floor.observed.any()
+    evidence = world.obstacles.evidence
+    assert (evidence > 0).any() and (evidence < 0).any() and world.floor.observed.any()
 
 
 def test_a_scan_reaching_past_the_grid_marks_only_cells_inside_it():

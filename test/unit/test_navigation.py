@@ -14,7 +14,6 @@ from can_seeker.control.reasons import Because, Kind
 from can_seeker.control.recoveries.stall import APPROACH_STALL_BEYOND_MEMORY_S
 from can_seeker.control.sighting import Sighting
 from can_seeker.control.supervisor import Event, State
-from can_seeker.control.costmap.world_map import WorldMap
 from can_seeker.control.navigation import Navigator, Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from kinematic_world import CAMERA_VIEW, ROBOT_RADIUS, World, run
@@ -27,43 +26,7 @@ def make_controller(**overrides):
     return Controller(SimpleNamespace(**dict(DEFAULTS, **overrides)))
 
 
-# Grid ----------------------------------------------------------------------------------------
-
-def test_scan_marks_its_hit_and_clears_the_floor_before_it():
-    world = WorldMap(0.1, 4.0)
-    world.update_from_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
-    assert world.occupied()[world.cell_of(1.0, 0.0)]
-    assert world.obstacles.evidence[world.cell_of(0.5, 0.0)] < 0
-    assert not world.occupied()[world.cell_of(0.85, 0.0)]
-
-
-def test_obstacle_values_tell_obstacle_observed_floor_and_unknown_apart():
-    world = WorldMap(0.1, 4.0)
-    world.update_from_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
-
-    def value(x_m, y_m):
-        ix, iy = world.cell_of(x_m, y_m)
-        return world.obstacle_values()[iy, ix]       # rows along y
-    assert world.obstacle_values().dtype == np.int8
-    assert value(1.0, 0.0) == 100
-    assert value(0.5, 0.0) == 0       # the ray passed over it
-    assert value(0.5, 1.0) == -1      # nothing looked there
-    assert value(-1.0, 0.0) == -1
-    world.update_from_footprint((-1.0, 0.0), 0.2)             # the robot's body stood there
-    assert value(-1.0, 0.0) == 0
-
-
-def test_rays_passing_through_clear_an_obstacle_that_moved():
-    world = WorldMap(0.1, 4.0)
-    for _ in range(3):
-        world.update_from_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
-    for _ in range(3):
-        world.update_from_scan((0.0, 0.0), np.array([[1.6, 0.0]]), np.array([False]))
-    assert world.occupied()[world.cell_of(1.0, 0.0)]     # a few misses do not erase it
-    for _ in range(10):
-        world.update_from_scan((0.0, 0.0), np.array([[1.6, 0.0]]), np.array([False]))
-    assert not world.occupied()[world.cell_of(1.0, 0.0)]
-
+# Camera view ---------------------------------------------------------------------------------
 
 def nudged(values, steps):
     """``values`` moved ``steps`` ulps, up for positive ``steps``, down for negative."""
@@ -71,45 +34,6 @@ def nudged(values, steps):
     for _ in range(abs(steps)):
         values = np.nextafter(values, math.copysign(math.inf, steps))
     return values
-
-
-def test_rays_a_few_ulps_off_mark_the_same_cells():
-    """Rays from a cell corner to cell boundaries, each a whole number of ray steps long and
-    some blind for the first few steps, mark the same cells when their origin and ends move a
-    few ulps either way (as a sin or cos from another CPU's SIMD kernels moves them); so does
-    the camera's wedge from there."""
-    origin = np.array([0.1, -0.2])
-    offsets = np.array([[0.6, 0.0], [0.0, 0.5], [-0.3, 0.4], [0.3, -0.4], [0.8, 0.6],
-                        [-0.6, -0.8], [0.0, -0.45], [-0.45, 0.0], [0.3, 0.0], [0.0, 0.35]])
-    hits = np.array([False, True, False, True, False, True, False, True, True, True])
-
-    def layers(origin_steps, end_steps):
-        world = WorldMap(0.1, 4.0)
-        for stamp_s in (0.0, 1.0):
-            world.update_from_scan(nudged(origin, origin_steps), nudged(origin + offsets, end_steps),
-                          hits, 0.25, stamp_s)
-        world.update_from_camera(nudged(origin, origin_steps), nudged(math.pi / 2.0, end_steps),
-                       math.radians(30.0), 0.25, 1.0)
-        return world.obstacles.evidence, world.floor.observed, world.coverage.seen, world.obstacles.blind_s, world.floor.blind_disc_s
-
-    exact = layers(0, 0)
-    assert (exact[0] < 0).sum() > 10 and (exact[0] > 0).sum() == hits.sum() and exact[2].sum() > 10
-    for steps in (-4, -3, -2, -1, 1, 2, 3, 4):
-        for origin_steps, end_steps in ((steps, steps), (steps, -steps), (0, steps)):
-            for layer, expected in zip(layers(origin_steps, end_steps), exact):
-                np.testing.assert_array_equal(layer, expected)
-
-
-def test_camera_coverage_is_a_wedge_that_stops_at_obstacles():
-    world = WorldMap(0.1, 8.0)
-    world.update_from_scan((0.0, 0.0), np.array([[1.05, 0.0]]), np.array([True]))
-    world.update_from_camera((0.0, 0.0), 0.0, math.radians(25.0), 0.3, 2.5)
-    assert world.coverage.seen[world.cell_of(0.8, 0.0)]
-    assert not world.coverage.seen[world.cell_of(1.8, 0.0)]          # behind the obstacle
-    assert world.coverage.seen[world.cell_of(2.0, 0.6)]              # beside its shadow
-    assert not world.coverage.seen[world.cell_of(0.1, 0.0)]          # nearer than the bottom row
-    assert not world.coverage.seen[world.cell_of(1.0, 1.5)]          # outside the field of view
-    assert not world.coverage.seen[world.cell_of(2.8, 0.0)]          # beyond the range
 
 
 def test_camera_view_of_the_default_mount():
@@ -643,25 +567,6 @@ def test_scan_rays_follow_rep_117():
     assert np.hypot(*ends[1]) == pytest.approx(4.0) and np.hypot(*ends[2]) == pytest.approx(4.0)
 
 
-def test_a_scan_does_not_clear_what_is_remembered_in_its_blind_zone():
-    world = WorldMap(0.1, 4.0)
-    world.update_from_scan((0.0, 0.0), np.array([[0.3, 0.0]]), np.array([True]))
-    for _ in range(5):
-        world.update_from_scan((0.0, 0.0), np.array([[2.0, 0.0]]), np.array([False]), clear_from_m=0.5)
-    assert world.occupied()[world.cell_of(0.3, 0.0)]
-    assert not world.occupied()[world.cell_of(1.0, 0.0)]
-
-
-def test_coverage_values_have_rows_along_y():
-    world = WorldMap(0.1, 2.0)
-    world.update_from_scan((0.0, 0.0), np.array([[0.55, -0.35]]), np.array([True]))
-    world.update_from_camera((0.0, 0.0), math.pi / 2.0, 0.2, 0.0, 0.5)
-    values = world.coverage_values()
-    ix, iy = world.cell_of(0.55, -0.35)
-    assert values[iy, ix] == 100
-    ix, iy = world.cell_of(0.0, 0.3)
-    assert values[iy, ix] == 0
-    assert values[world.cell_of(-0.5, -0.5)[::-1]] == -1
 
 
 def test_the_safety_layer_forgets_a_phantom_that_scans_keep_in_their_blind_zone():
@@ -676,7 +581,7 @@ def test_the_safety_layer_forgets_a_phantom_that_scans_keep_in_their_blind_zone(
     navigator.add_scan(ahead, np.array([False]), (0.0, 0.0), navigator.pose, range_min_m=1.0,
                        stamp_s=11.0)
     assert navigator.free_travel_m((0.3, 0.0), unknown=False) == 1.0         # 11 s in the blind zone
-    assert navigator.world.occupied()[navigator.world.cell_of(0.5, 0.0)]   # still on the map
+    assert navigator.world.occupied()[navigator.world.cell_of(0.5, 0.0)]     # still on the map
 
 
 
@@ -714,11 +619,6 @@ def test_a_remembered_obstacle_is_kept_where_it_was_hit_not_at_its_cell_centre()
     assert navigator.free_travel_m((0.3, 0.0), unknown=False) == 1.0
 
 
-def test_of_several_hits_in_a_cell_the_nearest_to_the_sensor_is_remembered():
-    world = WorldMap(0.1, 4.0)
-    world.update_from_scan((0.0, 0.0), np.array([[0.58, 0.02], [0.52, 0.03], [0.55, 0.08]]),
-                  np.array([True, True, True]))
-    assert world.obstacle_points((0.0, 0.0), 1.0).tolist() == [[0.52, 0.03]]
 
 
 def test_the_safety_layer_keeps_an_obstacle_out_of_view_until_a_scan_sees_its_place_free():
@@ -761,13 +661,6 @@ def test_the_safety_layer_forgets_a_phantom_beside_the_robot_in_the_blind_disc()
     assert navigator.world.occupied()[navigator.world.cell_of(0.45, 0.0)]
 
 
-def test_a_hit_restarts_the_blind_time_of_a_cell_in_the_disc():
-    world = WorldMap(0.1, 4.0)
-    world.update_from_scan((0.0, 0.0), np.array([[0.3, 0.0]]), np.array([True]), stamp_s=0.0)
-    world.update_from_scan((0.0, 0.0), np.array([[0.0, 2.0]]), np.array([False]), 0.5, stamp_s=4.0)
-    assert world.obstacles.blind_s[world.cell_of(0.3, 0.0)] == 4.0
-    world.update_from_scan((0.0, 0.0), np.array([[0.3, 0.0]]), np.array([True]), 0.1, stamp_s=5.0)
-    assert world.obstacles.blind_s[world.cell_of(0.3, 0.0)] == 0.0
 
 
 def fan(first_deg, last_deg, range_m, step_deg=1.0):
@@ -864,12 +757,12 @@ def test_unknown_floor_beside_a_remembered_obstacle_is_not_taken_for_floor_by_wa
     navigator = Navigator(0.1, 4.0, 0.165, 0.15, 0.05, memory_s=15.0, unknown_wait_s=5.0)
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
     navigator.world.update_from_scan((0.0, 0.0), np.array([[0.45, 0.25]]), np.array([True]),
-                            stamp_s=0.0)
+                                     stamp_s=0.0)
     beside_xy, elsewhere_xy = np.array([0.5, 0.45]), np.array([-0.45, -0.3])
 
     def unknown_near(xy, stamp_s):
-        navigator.world.update_from_scan((0.0, 0.0), np.array([[0.0, -2.0]]), np.array([False]), 0.8,
-                                stamp_s=stamp_s)
+        navigator.world.update_from_scan((0.0, 0.0), np.array([[0.0, -2.0]]),
+                                         np.array([False]), 0.8, stamp_s=stamp_s)
         points, _ = navigator.safety.unknown_base(navigator.pose)
         return bool((np.linalg.norm(points - xy, axis=1) < 0.05).any())
 
