@@ -6,7 +6,6 @@ from :func:`planner.wavefront` over the known part of the map; the last few are 
 between two changes of the map the paths, the frontier and each margin plan through the same
 cells again. Design and reasons: docs/design/controller-and-safety.md.
 """
-import math
 from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
