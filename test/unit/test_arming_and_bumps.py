@@ -81,10 +81,10 @@ def test_disarmed_missing_inputs_are_at_most_a_warning():
 def test_arming_searches_afresh_and_disarming_stops_at_once():
     controller = make_controller(enabled=False)
     feed(controller, 0.0, 1.0, Sighting(1.0, 0.0))
-    controller.navigator.grid.add_contact((1.0, 0.0))
+    controller.navigator.world.add_contact((1.0, 0.0))
     assert controller.set_enabled(True, 1.0) == 'armed: SEARCH'
     assert controller.state is State.SEARCH
-    assert not controller.navigator.grid.occupied().any()
+    assert not controller.navigator.world.occupied().any()
     commands, _, now = feed(controller, 1.0, 3.0, Sighting(1.0, 0.0))
     assert controller.state is State.APPROACH
     assert commands[-1][0] > 0.2
@@ -108,7 +108,7 @@ def test_a_bump_while_disarmed_starts_no_recovery():
     controller = make_controller(enabled=False)
     feed(controller, 0.0, 0.5)
     assert not controller.observe_bump(True, 0.5)
-    assert not controller.navigator.grid.contact.any()
+    assert not controller.navigator.world.obstacles.contact.any()
 
 
 # Searching without exploring ----------------------------------------------------------------
@@ -214,11 +214,11 @@ def test_bump_recovery_without_reverse_only_stops():
 def test_a_contact_stays_in_the_map_whatever_scans_see_there():
     controller = make_controller()
     feed(controller, 0.0, 0.5)
-    grid = controller.navigator.grid
-    grid.add_contact((0.5, 0.0))
+    world = controller.navigator.world
+    world.add_contact((0.5, 0.0))
     feed(controller, 0.5, 30.0)   # free rays through it, longer than OBSTACLE_MEMORY_S
-    cell = grid.cell_of(0.5, 0.0)
-    assert grid.occupied()[cell] and grid.evidence[cell] < 0
+    cell = world.cell_of(0.5, 0.0)
+    assert world.occupied()[cell] and world.obstacles.evidence[cell] < 0
     points, _ = controller.navigator.obstacles_base()
     assert np.any(np.all(np.isclose(points, (0.5, 0.0)), axis=1))
 
@@ -233,7 +233,7 @@ def test_a_bump_stops_at_once_backs_off_slowly_and_the_robot_keeps_off_the_conta
     pressed_at = pose
     assert controller.observe_bump(True, now)
     assert controller.last_command == (0.0, 0.0)
-    assert controller.navigator.grid.contact[controller.navigator.grid.cell_of(
+    assert controller.navigator.world.obstacles.contact[controller.navigator.world.cell_of(
         pressed_at.x + ROBOT_RADIUS, 0.0)]
     commands, pose, now = feed(controller, now, 0.2, Sighting(1.3 - pose.x, 0.0), pose=pose,
                                drive=True)

@@ -108,11 +108,11 @@ def test_explore_with_nothing_left_to_cover_forgets_coverage_and_searches_again(
     controller, p = parts(scan_topics='scan')
     enter(controller, State.EXPLORE)
     sensing(controller)
-    controller.navigator.grid.seen[:] = True
+    controller.navigator.world.coverage.seen[:] = True
     result = p.explore.command(0.0)
     assert result.event is Event.NOTHING_TO_EXPLORE
     assert result.command == (0.0, DEFAULTS['search_angular'])
-    assert not controller.navigator.grid.seen.any()
+    assert not controller.navigator.world.coverage.seen.any()
 
 
 def test_explore_at_its_goal_searches_again():

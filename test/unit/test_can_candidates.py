@@ -32,7 +32,7 @@ def test_the_navigator_remembers_candidates_once_until_the_camera_covers_them():
     for _ in range(3):
         ends, hits = world.scan(count=720, fov_rad=2 * math.pi)
         navigator.add_scan(ends, hits, (0.0, 0.0), navigator.pose)
-    assert len(navigator.candidates) == 1
+    assert len(navigator.world.candidates.points) == 1
     candidate = navigator.unviewed_candidate()
     assert np.linalg.norm(candidate - (1.5, 1.0)) < 0.05
     view = CameraView(0.1, 0.0, 0.0, math.radians(29.0), 0.3, 1.0)
@@ -41,15 +41,15 @@ def test_the_navigator_remembers_candidates_once_until_the_camera_covers_them():
     navigator.pose = Pose2D(0.8, 0.5, math.atan2(0.5, 0.7))
     navigator.mark_seen(view)                                   # 0.76 m away, dead ahead
     assert navigator.unviewed_candidate() is None
-    assert navigator.candidate_viewed(candidate)
+    assert navigator.world.candidates.is_viewed(candidate)
 
 
 def test_an_obstacle_between_the_camera_and_a_candidate_hides_it():
     world = World(3.0, [(1.5, 0.0, 0.033), (0.8, 0.0, 0.1)])
     navigator = Navigator(0.1, 10.0, 0.165, 0.15, 0.05)
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
-    navigator.candidates.append(np.array([1.5, 0.0]))
-    navigator.candidates_viewed.append(False)
+    navigator.world.candidates.points.append(np.array([1.5, 0.0]))
+    navigator.world.candidates.viewed.append(False)
     ends, hits = world.scan(count=100, fov_rad=1.0)             # a camera-like scan: the post
     navigator.add_scan(ends, hits, (0.0, 0.0), navigator.pose)
     navigator.mark_seen(CameraView(0.1, 0.0, 0.0, math.radians(29.0), 0.3, 2.0))
@@ -62,4 +62,4 @@ def test_a_camera_scan_adds_no_candidates():
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
     ends, hits = world.scan(count=100, fov_rad=1.0)
     navigator.add_scan(ends, hits, (0.0, 0.0), navigator.pose)
-    assert navigator.candidates == []
+    assert navigator.world.candidates.points == []

@@ -756,11 +756,11 @@ def test_a_late_scan_is_placed_at_the_pose_it_was_taken_from():
     controller.observe_pose(Pose2D(0.0, 0.0, math.pi / 2.0), 1.12)
     controller.observe_scan('/camera_scan', np.array([[1.0, 0.0]]), np.array([True]),
                             (0.0, 0.0), 1.12, stamp_s=1.0)
-    grid = controller.navigator.grid
-    ix, iy = np.nonzero(grid.occupied())
-    centres = grid.centre_of(ix, iy)
+    world = controller.navigator.world
+    ix, iy = np.nonzero(world.occupied())
+    centres = world.centre_of(ix, iy)
     assert len(centres) == 1
-    assert centres[0] == pytest.approx((1.0, 0.0), abs=grid.resolution_m)
+    assert centres[0] == pytest.approx((1.0, 0.0), abs=world.resolution_m)
 
 
 def test_commands_do_not_depend_on_when_the_trial_started():
@@ -791,11 +791,11 @@ def backing_up_to_see(view, unknown_x, unknown_y, obstacle_behind=False, duratio
     controller.set_camera_view(view)
     controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
     controller.observe_scan('/scan', *CLEAR_SCAN, (0.0, 0.0), 0.0)
-    grid = controller.navigator.grid
-    fine = np.arange(grid.observed.shape[0]) * grid.observed_resolution_m + grid.origin_m
+    world = controller.navigator.world
+    fine = np.arange(world.floor.observed.shape[0]) * world.observed_resolution_m + world.origin_m
     ahead_x = (fine >= unknown_x[0]) & (fine < unknown_x[1])
     beside_y = (fine >= unknown_y[0]) & (fine < unknown_y[1])
-    grid.observed[np.ix_(ahead_x, beside_y)] = False
+    world.floor.observed[np.ix_(ahead_x, beside_y)] = False
     rear = CLEAR_SCAN[0][:, 0] < -0.1
     ends, hits = CLEAR_SCAN[0][rear], CLEAR_SCAN[1][rear]
     if obstacle_behind:

@@ -13,38 +13,43 @@ import pytest
 
 from can_seeker.control import planner
 from can_seeker.control.elapsed import elapsed_s
-from can_seeker.control.grid_map import (BLIND_EDGE_M, EVIDENCE_LIMIT, HIT_EVIDENCE,
-                                         MISS_EVIDENCE, RAY_STEPS_PER_CELL, GridMap, _ray_samples,
-                                         _within)
+from can_seeker.control.costmap.grid import RAY_STEPS_PER_CELL, isqrt, ray_samples, within
+from can_seeker.control.costmap.obstacle_layer import (BLIND_EDGE_M, EVIDENCE_LIMIT,
+                                                       HIT_EVIDENCE, MISS_EVIDENCE)
+from can_seeker.control.costmap.world_map import WorldMap
 from can_seeker.lattice import lattice
 
-LAYERS = ('evidence', 'seen', 'observed', 'blind_s', 'blind_disc_s', 'hit_xy', 'contact')
+LAYERS = (('obstacles', 'evidence'), ('coverage', 'seen'), ('floor', 'observed'),
+          ('obstacles', 'blind_s'), ('floor', 'blind_disc_s'), ('obstacles', 'hit_xy'),
+          ('obstacles', 'contact'))
 
 
-def reference_add_scan(grid, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_s=0.0,
+def reference_add_scan(world, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_s=0.0,
                        source=''):
-    """:meth:`GridMap.add_scan`, each layer's samples taken and marked on their own."""
+    """:meth:`WorldMap.update_from_scan`, each layer's samples taken and marked on their own,
+    the layers' arrays updated in the order of one straightforward computation."""
+    grid, obstacles, floor = world.grid, world.obstacles, world.floor
     ends_xy = np.asarray(ends_xy, float).reshape(-1, 2)
-    previous_s = grid.scan_s.get(source)
+    previous_s = world.scan_s.get(source)
     elapsed = 0.0 if previous_s is None else elapsed_s(stamp_s, previous_s)
-    grid.scan_s[source] = stamp_s
+    world.scan_s[source] = stamp_s
     origin = lattice(origin_xy).reshape(1, 2)
     clear_um = int(lattice(clear_from_m))
-    resolution_um, fine_um = grid._resolution_um, grid._fine_um
+    resolution_um, fine_um = grid.resolution_um, grid.fine_um
     disc_window = None
     if clear_um > 0 and elapsed > 0.0:
-        ix, iy = grid._window(origin[0], clear_um, resolution_um, grid.cells)
-        centres = grid._centres_um(*np.meshgrid(ix, iy, indexing='ij'), resolution_um)
-        disc = _within(centres, origin[0], clear_um)
+        ix, iy = grid.window(origin[0], clear_um, resolution_um, grid.cells)
+        centres = grid.centres_um(*np.meshgrid(ix, iy, indexing='ij'), resolution_um)
+        disc = within(centres, origin[0], clear_um)
         disc_window = np.ix_(ix, iy), disc
-        grid.blind_disc_s[disc_window[0]] += np.where(disc, elapsed, 0.0)
+        floor.blind_disc_s[disc_window[0]] += np.where(disc, elapsed, 0.0)
     if len(ends_xy) == 0:
         if disc_window is not None:
-            grid.blind_s[disc_window[0]] += np.where(disc_window[1], elapsed, 0.0)
+            obstacles.blind_s[disc_window[0]] += np.where(disc_window[1], elapsed, 0.0)
         return
 
     def cells(xy_um, layer_um, count):
-        ix, iy, inside = grid._lattice_index(xy_um.reshape(-1, 2), layer_um, count)
+        ix, iy, inside = grid.lattice_index(xy_um.reshape(-1, 2), layer_um, count)
         marked = np.zeros((count, count), bool)
         marked[ix[inside], iy[inside]] = True
         return marked
@@ -53,7 +58,7 @@ def reference_add_scan(grid, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_s
     ends = lattice(ends_xy)
     offsets = ends - origin
     squared = (offsets * offsets).sum(axis=1)
-    points, fractions = _ray_samples(origin, offsets, squared, resolution_um // RAY_STEPS_PER_CELL)
+    points, fractions = ray_samples(origin, offsets, squared, resolution_um // RAY_STEPS_PER_CELL)
     reach = fractions[None, :] + np.where(hits, resolution_um, 0)[:, None]
     along = reach * reach <= squared[:, None]
     beyond_blind = fractions[None, :] >= clear_um
@@ -64,33 +69,34 @@ def reference_add_scan(grid, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_s
     edge_um = clear_um + int(lattice(BLIND_EDGE_M))
     at_edge = hits & (squared <= edge_um * edge_um)
     kept = (cells(points[within_blind & at_edge[:, None]], resolution_um, grid.cells)
-            & (grid.evidence > 0) if at_edge.any() else None)
+            & (obstacles.evidence > 0) if at_edge.any() else None)
     if disc_window is not None:
         blind[disc_window[0]] |= disc_window[1]
     nearest_first = np.argsort(squared[hits], kind='stable')
     hit_xy = ends_xy[hits][nearest_first]
-    hx, hy, hit_inside = grid._lattice_index(ends[hits][nearest_first], resolution_um,
-                                             grid.cells)
+    hx, hy, hit_inside = grid.lattice_index(ends[hits][nearest_first], resolution_um,
+                                            grid.cells)
     hx, hy, hit_xy = hx[hit_inside], hy[hit_inside], hit_xy[hit_inside]
     _, first = np.unique(hx * grid.cells + hy, return_index=True)
-    hit = np.zeros_like(grid.seen)
+    hit = np.zeros((grid.cells, grid.cells), bool)
     hit[hx, hy] = True
-    grid.hit_xy[hx[first], hy[first]] = hit_xy[first]
+    obstacles.hit_xy[hx[first], hy[first]] = hit_xy[first]
     free &= ~hit
     blind &= ~hit
-    fine_points, fine_fractions = _ray_samples(origin, offsets, squared,
+    fine_points, fine_fractions = ray_samples(origin, offsets, squared,
                                                fine_um // RAY_STEPS_PER_CELL)
     fine_reach = fine_fractions[None, :] + np.where(hits, fine_um, 0)[:, None]
     fine_free = (fine_reach * fine_reach <= squared[:, None]) & (fine_fractions[None, :]
                                                                  >= clear_um)
-    grid.observed |= cells(np.concatenate((fine_points[fine_free], ends[hits])), fine_um,
-                           len(grid.observed))
-    grid.evidence[free] = np.maximum(grid.evidence[free] - MISS_EVIDENCE, -EVIDENCE_LIMIT)
-    grid.evidence[hit] = np.minimum(grid.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
-    grid.blind_s[hit] = 0.0
-    grid.blind_s[blind] += max(0.0, elapsed)
+    floor.observed |= cells(np.concatenate((fine_points[fine_free], ends[hits])), fine_um,
+                            grid.fine_cells)
+    obstacles.evidence[free] = np.maximum(obstacles.evidence[free] - MISS_EVIDENCE,
+                                          -EVIDENCE_LIMIT)
+    obstacles.evidence[hit] = np.minimum(obstacles.evidence[hit] + HIT_EVIDENCE, EVIDENCE_LIMIT)
+    obstacles.blind_s[hit] = 0.0
+    obstacles.blind_s[blind] += max(0.0, elapsed)
     if kept is not None:
-        grid.blind_s[kept] = 0.0
+        obstacles.blind_s[kept] = 0.0
 
 
 def reference_wavefront(free, start):
@@ -125,19 +131,20 @@ def random_scan(rng, origin, rays, max_range_m, fan_rad=None, blind_m=0.0):
     return ends, hits
 
 
-def assert_same_layers(grid, reference):
-    for name in LAYERS:
-        np.testing.assert_array_equal(getattr(grid, name), getattr(reference, name), name)
-    assert grid.scan_s == reference.scan_s
+def assert_same_layers(world, reference):
+    for layer, name in LAYERS:
+        np.testing.assert_array_equal(getattr(getattr(world, layer), name),
+                                      getattr(getattr(reference, layer), name), name)
+    assert world.scan_s == reference.scan_s
 
 
 @pytest.mark.parametrize('seed', range(6))
 def test_scans_mark_the_layers_as_the_per_layer_sampling_does(seed):
-    """Random scans from a wandering sensor (camera fans, lidar rings, rays off the grid),
+    """Random scans from a wandering sensor (camera fans, lidar rings, rays off the world),
     with blind zones, two sources and stamps a frame apart: every layer equal, every scan."""
     rng = np.random.default_rng(seed)
     resolution_m, size_m = ((0.1, 8.0), (0.05, 6.0), (0.08, 5.0))[seed % 3]
-    grid, reference = GridMap(resolution_m, size_m), GridMap(resolution_m, size_m)
+    world, reference = WorldMap(resolution_m, size_m), WorldMap(resolution_m, size_m)
     position = rng.uniform(-1.0, 1.0, 2)
     for scan in range(40):
         position = np.clip(position + rng.normal(0.0, 0.08, 2), -size_m / 2.0, size_m / 2.0)
@@ -147,20 +154,21 @@ def test_scans_mark_the_layers_as_the_per_layer_sampling_does(seed):
                                  rng.uniform(0.3, 5.0),
                                  None if source == 'lidar' else math.radians(60.0), blind_m)
         stamp_s = scan / 15.0
-        grid.add_scan(position, ends, hits, blind_m, stamp_s, source)
+        world.update_from_scan(position, ends, hits, blind_m, stamp_s, source)
         reference_add_scan(reference, position, ends, hits, blind_m, stamp_s, source)
-        assert_same_layers(grid, reference)
-    assert (grid.evidence > 0).any() and (grid.evidence < 0).any() and grid.observed.any()
+        assert_same_layers(world, reference)
+    evidence = world.obstacles.evidence
+    assert (evidence > 0).any() and (evidence < 0).any() and world.floor.observed.any()
 
 
 def test_a_scan_reaching_past_the_grid_marks_only_cells_inside_it():
-    grid, reference = GridMap(0.1, 2.0), GridMap(0.1, 2.0)
+    world, reference = WorldMap(0.1, 2.0), WorldMap(0.1, 2.0)
     rng = np.random.default_rng(7)
     for stamp_s in (0.0, 0.1):
         ends, hits = random_scan(rng, (0.8, -0.7), 200, 3.0, None, 0.2)
-        grid.add_scan((0.8, -0.7), ends, hits, 0.2, stamp_s)
+        world.update_from_scan((0.8, -0.7), ends, hits, 0.2, stamp_s)
         reference_add_scan(reference, (0.8, -0.7), ends, hits, 0.2, stamp_s)
-        assert_same_layers(grid, reference)
+        assert_same_layers(world, reference)
 
 
 @pytest.mark.parametrize('seed', range(8))
@@ -207,34 +215,33 @@ def test_inflate_grows_as_one_offset_at_a_time(radius_cells):
 
 
 def test_integer_square_roots_are_exact_to_the_largest_squares():
-    from can_seeker.control.grid_map import _isqrt
     rng = np.random.default_rng(3)
     roots = np.concatenate((np.arange(0, 2000), rng.integers(0, 2 ** 31, 5000),
                             [2 ** 26 - 1, 2 ** 26, 2 ** 26 + 1, 94906265, 94906266, 2 ** 31 - 1]))
     squares = roots * roots
     values = np.concatenate((squares, squares + 1, np.maximum(squares - 1, 0),
                              rng.integers(0, 2 ** 62, 5000)))
-    np.testing.assert_array_equal(_isqrt(values), [math.isqrt(int(v)) for v in values])
+    np.testing.assert_array_equal(isqrt(values), [math.isqrt(int(v)) for v in values])
 
 
 def test_the_robot_body_and_the_camera_wedge_mark_as_whole_grid_masks_do():
     rng = np.random.default_rng(11)
-    grid = GridMap(0.1, 6.0)
+    world = WorldMap(0.1, 6.0)
     for _ in range(5):
         ends, hits = random_scan(rng, (0.0, 0.0), 200, 2.5, None, 0.1)
-        grid.add_scan((0.0, 0.0), ends, hits, 0.1)
+        world.update_from_scan((0.0, 0.0), ends, hits, 0.1)
     for _ in range(60):
         centre, radius_m = rng.uniform(-3.3, 3.3, 2), rng.uniform(0.0, 0.4)
-        expected = grid.observed.copy()
+        expected = world.floor.observed.copy()
         fx, fy = np.meshgrid(np.arange(len(expected)), np.arange(len(expected)), indexing='ij')
-        centres = grid._centres_um(fx, fy, grid._fine_um)
-        expected |= _within(centres, lattice(centre), int(lattice(radius_m)))
-        grid.mark_observed(centre, radius_m)
-        np.testing.assert_array_equal(grid.observed, expected)
-        seen = grid.seen.copy()
+        centres = world.grid.centres_um(fx, fy, world.grid.fine_um)
+        expected |= within(centres, lattice(centre), int(lattice(radius_m)))
+        world.update_from_footprint(centre, radius_m)
+        np.testing.assert_array_equal(world.floor.observed, expected)
+        seen = world.coverage.seen.copy()
         heading, half_fov = rng.uniform(-math.pi, math.pi), rng.uniform(0.1, 0.8)
         near_m, far_m = rng.uniform(0.0, 0.5), rng.uniform(0.3, 3.0)
-        step_um = grid._resolution_um // RAY_STEPS_PER_CELL
+        step_um = world.grid.resolution_um // RAY_STEPS_PER_CELL
         near_um, far_um = int(lattice(near_m)), int(lattice(far_m))
         if far_um > near_um:
             rays = -(-int(lattice(2.0 * half_fov * far_m)) // step_um) + 1
@@ -242,18 +249,18 @@ def test_the_robot_body_and_the_camera_wedge_mark_as_whole_grid_masks_do():
             distances_um = np.arange(far_um // step_um + 1) * step_um
             points = (centre[None, None, :] + (distances_um / 1e6)[None, :, None]
                       * np.stack((np.cos(bearings), np.sin(bearings)), axis=-1)[:, None, :])
-            ix, iy, inside = grid.index_of(points.reshape(-1, 2))
-            blocked = (grid.occupied()[ix, iy] | ~inside).reshape(rays, len(distances_um))
+            ix, iy, inside = world.index_of(points.reshape(-1, 2))
+            blocked = (world.occupied()[ix, iy] | ~inside).reshape(rays, len(distances_um))
             visible = ~np.maximum.accumulate(blocked, axis=1)
             visible &= distances_um[None, :] >= near_um
             seen[ix[visible.reshape(-1)], iy[visible.reshape(-1)]] = True
-        grid.mark_seen(centre, heading, half_fov, near_m, far_m)
-        np.testing.assert_array_equal(grid.seen, seen)
+        world.update_from_camera(centre, heading, half_fov, near_m, far_m)
+        np.testing.assert_array_equal(world.coverage.seen, seen)
 
 
 def recorded_scans():
     """The first 40 camera scans of a realistic room trial (seed 1001), in odom, as the
-    controller passed them to its grid (stored as float32; see test/data/README.md)."""
+    controller passed them to its world (stored as float32; see test/data/README.md)."""
     data = np.load(os.path.join(os.path.dirname(__file__), '..', 'data', 'camera_scans_room.npz'))
     starts = np.concatenate(([0], np.cumsum(data['ray_counts'])))
     for index, origin in enumerate(data['origins'].astype(float)):
@@ -263,15 +270,15 @@ def recorded_scans():
 
 
 def test_recorded_scans_mark_the_layers_and_plan_as_the_straightforward_computation():
-    grid, reference = GridMap(0.1, 20.0), GridMap(0.1, 20.0)
+    world, reference = WorldMap(0.1, 20.0), WorldMap(0.1, 20.0)
     for origin, ends, hits, clear_from_m, stamp_s in recorded_scans():
-        grid.add_scan(origin, ends, hits, clear_from_m, stamp_s, 'camera_scan')
+        world.update_from_scan(origin, ends, hits, clear_from_m, stamp_s, 'camera_scan')
         reference_add_scan(reference, origin, ends, hits, clear_from_m, stamp_s, 'camera_scan')
-        assert_same_layers(grid, reference)
+        assert_same_layers(world, reference)
         blocked = reference_inflate(reference.occupied(), (0.165 + 0.15) / 0.1)
-        np.testing.assert_array_equal(planner.inflate(grid.occupied(), (0.165 + 0.15) / 0.1),
+        np.testing.assert_array_equal(planner.inflate(world.occupied(), (0.165 + 0.15) / 0.1),
                                       blocked)
-        start = grid.cell_of(*origin)
+        start = world.cell_of(*origin)
         np.testing.assert_array_equal(planner.wavefront(~blocked, start),
                                       reference_wavefront(~blocked, start))
-    assert (grid.evidence > 0).sum() > 50 and grid.observed.sum() > 1000
+    assert (world.obstacles.evidence > 0).sum() > 50 and world.floor.observed.sum() > 1000

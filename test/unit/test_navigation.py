@@ -1,4 +1,4 @@
-"""Obstacle grid, coverage, planning, the safety layer and exploration, without a simulator."""
+"""World map, coverage, planning, the safety layer and exploration, without a simulator."""
 import math
 from types import SimpleNamespace
 
@@ -14,7 +14,6 @@ from can_seeker.control.reasons import Because, Kind
 from can_seeker.control.recoveries.stall import APPROACH_STALL_BEYOND_MEMORY_S
 from can_seeker.control.sighting import Sighting
 from can_seeker.control.supervisor import Event, State
-from can_seeker.control.grid_map import GridMap
 from can_seeker.control.navigation import Navigator, Pose2D, camera_view
 from can_seeker.control.scan_points import scan_rays
 from kinematic_world import CAMERA_VIEW, ROBOT_RADIUS, World, run
@@ -27,43 +26,7 @@ def make_controller(**overrides):
     return Controller(SimpleNamespace(**dict(DEFAULTS, **overrides)))
 
 
-# Grid ----------------------------------------------------------------------------------------
-
-def test_scan_marks_its_hit_and_clears_the_floor_before_it():
-    grid = GridMap(0.1, 4.0)
-    grid.add_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
-    assert grid.occupied()[grid.cell_of(1.0, 0.0)]
-    assert grid.evidence[grid.cell_of(0.5, 0.0)] < 0
-    assert not grid.occupied()[grid.cell_of(0.85, 0.0)]
-
-
-def test_obstacle_values_tell_obstacle_observed_floor_and_unknown_apart():
-    grid = GridMap(0.1, 4.0)
-    grid.add_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
-
-    def value(x_m, y_m):
-        ix, iy = grid.cell_of(x_m, y_m)
-        return grid.obstacle_values()[iy, ix]       # rows along y
-    assert grid.obstacle_values().dtype == np.int8
-    assert value(1.0, 0.0) == 100
-    assert value(0.5, 0.0) == 0       # the ray passed over it
-    assert value(0.5, 1.0) == -1      # nothing looked there
-    assert value(-1.0, 0.0) == -1
-    grid.mark_observed((-1.0, 0.0), 0.2)             # the robot's body stood there
-    assert value(-1.0, 0.0) == 0
-
-
-def test_rays_passing_through_clear_an_obstacle_that_moved():
-    grid = GridMap(0.1, 4.0)
-    for _ in range(3):
-        grid.add_scan((0.0, 0.0), np.array([[1.0, 0.0]]), np.array([True]))
-    for _ in range(3):
-        grid.add_scan((0.0, 0.0), np.array([[1.6, 0.0]]), np.array([False]))
-    assert grid.occupied()[grid.cell_of(1.0, 0.0)]     # a few misses do not erase it
-    for _ in range(10):
-        grid.add_scan((0.0, 0.0), np.array([[1.6, 0.0]]), np.array([False]))
-    assert not grid.occupied()[grid.cell_of(1.0, 0.0)]
-
+# Camera view ---------------------------------------------------------------------------------
 
 def nudged(values, steps):
     """``values`` moved ``steps`` ulps, up for positive ``steps``, down for negative."""
@@ -71,45 +34,6 @@ def nudged(values, steps):
     for _ in range(abs(steps)):
         values = np.nextafter(values, math.copysign(math.inf, steps))
     return values
-
-
-def test_rays_a_few_ulps_off_mark_the_same_cells():
-    """Rays from a cell corner to cell boundaries, each a whole number of ray steps long and
-    some blind for the first few steps, mark the same cells when their origin and ends move a
-    few ulps either way (as a sin or cos from another CPU's SIMD kernels moves them); so does
-    the camera's wedge from there."""
-    origin = np.array([0.1, -0.2])
-    offsets = np.array([[0.6, 0.0], [0.0, 0.5], [-0.3, 0.4], [0.3, -0.4], [0.8, 0.6],
-                        [-0.6, -0.8], [0.0, -0.45], [-0.45, 0.0], [0.3, 0.0], [0.0, 0.35]])
-    hits = np.array([False, True, False, True, False, True, False, True, True, True])
-
-    def layers(origin_steps, end_steps):
-        grid = GridMap(0.1, 4.0)
-        for stamp_s in (0.0, 1.0):
-            grid.add_scan(nudged(origin, origin_steps), nudged(origin + offsets, end_steps),
-                          hits, 0.25, stamp_s)
-        grid.mark_seen(nudged(origin, origin_steps), nudged(math.pi / 2.0, end_steps),
-                       math.radians(30.0), 0.25, 1.0)
-        return grid.evidence, grid.observed, grid.seen, grid.blind_s, grid.blind_disc_s
-
-    exact = layers(0, 0)
-    assert (exact[0] < 0).sum() > 10 and (exact[0] > 0).sum() == hits.sum() and exact[2].sum() > 10
-    for steps in (-4, -3, -2, -1, 1, 2, 3, 4):
-        for origin_steps, end_steps in ((steps, steps), (steps, -steps), (0, steps)):
-            for layer, expected in zip(layers(origin_steps, end_steps), exact):
-                np.testing.assert_array_equal(layer, expected)
-
-
-def test_camera_coverage_is_a_wedge_that_stops_at_obstacles():
-    grid = GridMap(0.1, 8.0)
-    grid.add_scan((0.0, 0.0), np.array([[1.05, 0.0]]), np.array([True]))
-    grid.mark_seen((0.0, 0.0), 0.0, math.radians(25.0), 0.3, 2.5)
-    assert grid.seen[grid.cell_of(0.8, 0.0)]
-    assert not grid.seen[grid.cell_of(1.8, 0.0)]          # behind the obstacle
-    assert grid.seen[grid.cell_of(2.0, 0.6)]              # beside its shadow
-    assert not grid.seen[grid.cell_of(0.1, 0.0)]          # nearer than the bottom row
-    assert not grid.seen[grid.cell_of(1.0, 1.5)]          # outside the field of view
-    assert not grid.seen[grid.cell_of(2.8, 0.0)]          # beyond the range
 
 
 def test_camera_view_of_the_default_mount():
@@ -344,7 +268,7 @@ def test_a_passage_too_narrow_for_the_plan_margin_is_a_way_the_safety_layer_allo
     path = navigator.path_to((2.0, 0.0))
     assert path is not None
     assert np.all(clearance_of(path, wall) > 0.165 + 0.05)
-    navigator.grid.seen[:navigator.grid.cell_of(1.1, 0.0)[0], :] = True
+    navigator.world.coverage.seen[:navigator.world.cell_of(1.1, 0.0)[0], :] = True
     goal = navigator.frontier(0.3, 6)
     assert goal is not None and goal[0] > 1.0
 
@@ -449,9 +373,9 @@ def test_with_a_lidar_exploration_heads_first_for_the_small_object_it_saw():
 
 def test_exploration_keeps_a_candidate_goal_while_the_robot_gets_nearer_over_covered_floor():
     controller = make_controller()
-    controller.navigator.grid.seen[:] = True
-    controller.navigator.candidates.append(np.array([3.0, 0.0]))
-    controller.navigator.candidates_viewed.append(False)
+    controller.navigator.world.coverage.seen[:] = True
+    controller.navigator.world.candidates.points.append(np.array([3.0, 0.0]))
+    controller.navigator.world.candidates.viewed.append(False)
     controller.navigator.pose = Pose2D(0.0, 0.0, 0.0)
     assert controller.navigator.unviewed_candidate() is not None
     controller.supervisor.handle(Event.SEARCHED_ALL_ROUND, 0.0)
@@ -475,8 +399,8 @@ def test_a_place_chosen_after_stalled_floor_gets_its_own_stall_time():
     explore.goal_xy = np.array([1.0, 1.0])                   # floor; nothing new seen for 5 s
     for step in range(100):
         give_up.after_tick(State.EXPLORE, 0.05 * step, Because())
-    controller.navigator.candidates.append(np.array([3.0, 0.0]))
-    controller.navigator.candidates_viewed.append(False)
+    controller.navigator.world.candidates.points.append(np.array([3.0, 0.0]))
+    controller.navigator.world.candidates.viewed.append(False)
     explore.goal_xy, explore.goal_is_candidate = np.array([3.0, 0.0]), True
     for step in range(100, 200):                              # 5 s more, standing
         give_up.after_tick(State.EXPLORE, 0.05 * step, Because())
@@ -488,8 +412,8 @@ def test_arriving_at_a_place_where_the_can_may_stand_counts_it_as_looked_at():
     controller = make_controller()
     navigator = controller.navigator
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
-    navigator.candidates.append(np.array([0.2, 0.0]))
-    navigator.candidates_viewed.append(False)
+    navigator.world.candidates.points.append(np.array([0.2, 0.0]))
+    navigator.world.candidates.viewed.append(False)
     controller.observe_pose(Pose2D(0.0, 0.0, 0.0), 0.0)
     controller.observe_scan(controller.scan_sources[0], np.array([[2.0, 0.0]]), np.array([False]),
                             (0.0, 0.0), 0.0)
@@ -643,25 +567,6 @@ def test_scan_rays_follow_rep_117():
     assert np.hypot(*ends[1]) == pytest.approx(4.0) and np.hypot(*ends[2]) == pytest.approx(4.0)
 
 
-def test_a_scan_does_not_clear_what_is_remembered_in_its_blind_zone():
-    grid = GridMap(0.1, 4.0)
-    grid.add_scan((0.0, 0.0), np.array([[0.3, 0.0]]), np.array([True]))
-    for _ in range(5):
-        grid.add_scan((0.0, 0.0), np.array([[2.0, 0.0]]), np.array([False]), clear_from_m=0.5)
-    assert grid.occupied()[grid.cell_of(0.3, 0.0)]
-    assert not grid.occupied()[grid.cell_of(1.0, 0.0)]
-
-
-def test_coverage_values_have_rows_along_y():
-    grid = GridMap(0.1, 2.0)
-    grid.add_scan((0.0, 0.0), np.array([[0.55, -0.35]]), np.array([True]))
-    grid.mark_seen((0.0, 0.0), math.pi / 2.0, 0.2, 0.0, 0.5)
-    values = grid.coverage_values()
-    ix, iy = grid.cell_of(0.55, -0.35)
-    assert values[iy, ix] == 100
-    ix, iy = grid.cell_of(0.0, 0.3)
-    assert values[iy, ix] == 0
-    assert values[grid.cell_of(-0.5, -0.5)[::-1]] == -1
 
 
 def test_the_safety_layer_forgets_a_phantom_that_scans_keep_in_their_blind_zone():
@@ -676,7 +581,7 @@ def test_the_safety_layer_forgets_a_phantom_that_scans_keep_in_their_blind_zone(
     navigator.add_scan(ahead, np.array([False]), (0.0, 0.0), navigator.pose, range_min_m=1.0,
                        stamp_s=11.0)
     assert navigator.free_travel_m((0.3, 0.0), unknown=False) == 1.0         # 11 s in the blind zone
-    assert navigator.grid.occupied()[navigator.grid.cell_of(0.5, 0.0)]   # still on the map
+    assert navigator.world.occupied()[navigator.world.cell_of(0.5, 0.0)]     # still on the map
 
 
 
@@ -708,17 +613,12 @@ def test_a_remembered_obstacle_is_kept_where_it_was_hit_not_at_its_cell_centre()
                        stamp_s=0.0)
     navigator.add_scan(np.array([[1.0, 0.0]]), np.array([False]), (0.0, 0.0), navigator.pose,
                        range_min_m=0.9, stamp_s=1.0)
-    assert len(navigator.last_scans[''][0]) == 0               # only remembered now
+    assert len(navigator.safety.last_scans[''][0]) == 0               # only remembered now
     assert navigator.free_travel_m((0.3, 0.0), unknown=False) < 0.35
     navigator.pose = Pose2D(-0.1, 0.0, math.pi / 2.0)          # 0.305 m from it
     assert navigator.free_travel_m((0.3, 0.0), unknown=False) == 1.0
 
 
-def test_of_several_hits_in_a_cell_the_nearest_to_the_sensor_is_remembered():
-    grid = GridMap(0.1, 4.0)
-    grid.add_scan((0.0, 0.0), np.array([[0.58, 0.02], [0.52, 0.03], [0.55, 0.08]]),
-                  np.array([True, True, True]))
-    assert grid.obstacle_points((0.0, 0.0), 1.0).tolist() == [[0.52, 0.03]]
 
 
 def test_the_safety_layer_keeps_an_obstacle_out_of_view_until_a_scan_sees_its_place_free():
@@ -736,7 +636,7 @@ def test_the_safety_layer_keeps_an_obstacle_out_of_view_until_a_scan_sees_its_pl
     for stamp_s in range(61, 81):
         navigator.add_scan(np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0),
                            navigator.pose, range_min_m=0.1, stamp_s=float(stamp_s))
-    assert not navigator.grid.occupied()[navigator.grid.cell_of(0.45, 0.0)]
+    assert not navigator.world.occupied()[navigator.world.cell_of(0.45, 0.0)]
 
 
 def test_the_safety_layer_forgets_a_phantom_beside_the_robot_in_the_blind_disc():
@@ -758,16 +658,9 @@ def test_the_safety_layer_forgets_a_phantom_beside_the_robot_in_the_blind_disc()
         navigator.add_scan(np.array([[2.0, 0.0]]), np.array([False]), (0.0, 0.0),
                            navigator.pose, range_min_m=0.35, stamp_s=float(stamp_s))
     assert navigator.free_travel_m(sharp_right, unknown=False) > 0.3     # 11 s in the disc
-    assert navigator.grid.occupied()[navigator.grid.cell_of(0.45, 0.0)]
+    assert navigator.world.occupied()[navigator.world.cell_of(0.45, 0.0)]
 
 
-def test_a_hit_restarts_the_blind_time_of_a_cell_in_the_disc():
-    grid = GridMap(0.1, 4.0)
-    grid.add_scan((0.0, 0.0), np.array([[0.3, 0.0]]), np.array([True]), stamp_s=0.0)
-    grid.add_scan((0.0, 0.0), np.array([[0.0, 2.0]]), np.array([False]), 0.5, stamp_s=4.0)
-    assert grid.blind_s[grid.cell_of(0.3, 0.0)] == 4.0
-    grid.add_scan((0.0, 0.0), np.array([[0.3, 0.0]]), np.array([True]), 0.1, stamp_s=5.0)
-    assert grid.blind_s[grid.cell_of(0.3, 0.0)] == 0.0
 
 
 def fan(first_deg, last_deg, range_m, step_deg=1.0):
@@ -807,7 +700,7 @@ def test_a_cell_the_rays_call_free_may_still_hold_an_unobserved_corner():
     elsewhere = np.concatenate((fan(-180.0, 37.0, 2.0), fan(54.0, 179.0, 2.0)))
     ends = np.concatenate((grazing, elsewhere))
     navigator.add_scan(ends, np.zeros(len(ends), bool), (0.0, 0.0), navigator.pose)
-    assert navigator.grid.evidence[navigator.grid.cell_of(0.45, 0.45)] < 0
+    assert navigator.world.obstacles.evidence[navigator.world.cell_of(0.45, 0.45)] < 0
     along_the_corner = Pose2D(-0.2, 0.475, 0.0)
     navigator.pose = along_the_corner
     assert navigator.free_travel_m((0.3, 0.0), unknown=False) == 1.0
@@ -863,14 +756,14 @@ def test_unknown_floor_beside_a_remembered_obstacle_is_not_taken_for_floor_by_wa
     disc), so is the floor around it."""
     navigator = Navigator(0.1, 4.0, 0.165, 0.15, 0.05, memory_s=15.0, unknown_wait_s=5.0)
     navigator.pose = Pose2D(0.0, 0.0, 0.0)
-    navigator.grid.add_scan((0.0, 0.0), np.array([[0.45, 0.25]]), np.array([True]),
-                            stamp_s=0.0)
+    navigator.world.update_from_scan((0.0, 0.0), np.array([[0.45, 0.25]]), np.array([True]),
+                                     stamp_s=0.0)
     beside_xy, elsewhere_xy = np.array([0.5, 0.45]), np.array([-0.45, -0.3])
 
     def unknown_near(xy, stamp_s):
-        navigator.grid.add_scan((0.0, 0.0), np.array([[0.0, -2.0]]), np.array([False]), 0.8,
-                                stamp_s=stamp_s)
-        points, _ = navigator.unknown_base()
+        navigator.world.update_from_scan((0.0, 0.0), np.array([[0.0, -2.0]]),
+                                         np.array([False]), 0.8, stamp_s=stamp_s)
+        points, _ = navigator.safety.unknown_base(navigator.pose)
         return bool((np.linalg.norm(points - xy, axis=1) < 0.05).any())
 
     assert unknown_near(beside_xy, 1.0) and unknown_near(elsewhere_xy, 1.0)
@@ -894,7 +787,7 @@ def test_an_obstacle_beside_the_last_stretch_moves_the_stop_point_around_the_can
     for _ in range(5):
         controller.observe_scan(controller.scan_sources[0], np.array([[0.3, 0.262]]),
                                 np.array([True]), (0.0, 0.0), now)
-    assert controller.navigator.grid.occupied()[controller.navigator.grid.cell_of(*point_odom)]
+    assert controller.navigator.world.occupied()[controller.navigator.world.cell_of(*point_odom)]
     _, poses, states, _ = run(controller, world, 30.0, stop_when=stopped, camera_scan=True,
                               start_s=now)
     assert controller.state is State.STOPPED

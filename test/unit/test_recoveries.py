@@ -146,8 +146,8 @@ def test_give_up_goal_waits_while_the_camera_covers_new_floor():
     controller, p = make()
     controller.supervisor.handle(Event.SEARCHED_ALL_ROUND, 0.0)
     p.explore.goal_xy = np.array([2.0, 0.0])
-    grid = controller.navigator.grid
+    world = controller.navigator.world
     for step in range(20):
-        grid.seen.flat[10 * step:10 * step + 10] = True
+        world.coverage.seen.flat[10 * step:10 * step + 10] = True
         p.give_up.after_tick(State.EXPLORE, 1.0 * step, Because())
     assert p.explore.goal_xy is not None

@@ -220,7 +220,7 @@ class Controller:
         if not pressed or was_pressed:
             return False
         if contact is not None:
-            self.navigator.grid.add_contact(contact)
+            self.navigator.world.add_contact(contact)
         self.context.paths.clear()
         self.context.last_command = ZERO
         return True
@@ -252,9 +252,9 @@ class Controller:
     def map_layers(self, obstacles: bool = False):
         """The coverage grid's values (with ``obstacles``: the obstacle memory's) with the
         cell size and the grid's origin (m, odom), for OccupancyGrid messages."""
-        grid = self.navigator.grid
-        values = grid.obstacle_values() if obstacles else grid.coverage_values()
-        return values, grid.resolution_m, grid.origin_m
+        world = self.navigator.world
+        values = world.obstacle_values() if obstacles else world.coverage_values()
+        return values, world.resolution_m, world.origin_m
 
     _disarmed = property(lambda self: reason(Kind.DISARMED, arm_hint=self.arm_hint))
     robot_xy = property(lambda self: None if self.navigator.pose is None else (

@@ -7,7 +7,7 @@ from typing import Optional
 import numpy as np
 
 from can_seeker.control.behaviours.base import Behaviour, Result
-from can_seeker.control.navigation import GOAL_REACHED_M
+from can_seeker.control.path_planner import GOAL_REACHED_M
 from can_seeker.control.reasons import Consequence, Kind, reason
 from can_seeker.control.supervisor import Event
 
@@ -30,7 +30,7 @@ class Explore(Behaviour):
     def give_up_goal(self) -> None:
         """Never head for the goal again (choose another)."""
         if self.goal_xy is not None:
-            self.context.navigator.give_up_on(self.goal_xy)
+            self.context.navigator.world.give_up_at(self.goal_xy)
         self.goal_xy = None
 
     def on_detection(self, ranged: bool, now_s: float) -> Optional[Event]:
@@ -43,8 +43,8 @@ class Explore(Behaviour):
             context.because(context.cannot_navigate(now_s, Consequence.NO_EXPLORING))
             return Result((0.0, 0.0))
         covered = (self.goal_xy is not None
-                   and (navigator.candidate_viewed(self.goal_xy) if self.goal_is_candidate
-                        else navigator.is_seen(self.goal_xy)))
+                   and (navigator.world.candidates.is_viewed(self.goal_xy) if self.goal_is_candidate
+                        else navigator.world.is_seen(self.goal_xy)))
         if self.goal_xy is None or covered or context.paths.replan_due(now_s):
             previous_goal, previous_is_candidate = self.goal_xy, self.goal_is_candidate
             self.goal_xy = navigator.unviewed_candidate()
@@ -57,16 +57,16 @@ class Explore(Behaviour):
                     or not np.array_equal(self.goal_xy, previous_goal)):
                 context.paths.clear()
             if self.goal_xy is None:
-                navigator.grid.forget_coverage()
+                navigator.world.forget_coverage()
                 return Result(context.turning(), Event.NOTHING_TO_EXPLORE)
         if navigator.distance_to(self.goal_xy) < GOAL_REACHED_M:
             if self.goal_is_candidate:
-                navigator.give_up_on(self.goal_xy)
+                navigator.world.give_up_at(self.goal_xy)
             return Result(context.turning(), Event.GOAL_REACHED)
         command = context.paths.follow(self.goal_xy, now_s, context.because,
                                        self.candidate_goal)
         if command is None:
-            navigator.give_up_on(self.goal_xy)
+            navigator.world.give_up_at(self.goal_xy)
             self.goal_xy = None
             context.because(reason(Kind.NO_PATH_TO_GOAL))
             return Result((0.0, 0.0))

@@ -9,7 +9,7 @@ import numpy as np
 from can_seeker.control import avoidance
 from can_seeker.control.behaviours.base import Behaviour, Result
 from can_seeker.control.elapsed import elapsed_s
-from can_seeker.control.navigation import GOAL_REACHED_M
+from can_seeker.control.path_planner import GOAL_REACHED_M
 from can_seeker.control.reasons import Consequence, Kind, reason
 from can_seeker.control.supervisor import Event
 

@@ -60,7 +60,7 @@ class BackUpToSeeFloor:
         view = self.camera_view()
         if view is None or view.base_near_m <= 0.0:
             return 0.0
-        back_m = view.back_up_to_see_m(point_base, self.navigator.grid.resolution_m / 2.0)
+        back_m = view.back_up_to_see_m(point_base, self.navigator.world.resolution_m / 2.0)
         return back_m if math.isfinite(back_m) else 0.0
 
 

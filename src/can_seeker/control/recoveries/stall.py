@@ -42,13 +42,13 @@ class GiveUpGoal:
             self.progress = None
             return
         navigator = self.navigator
-        covered = int(np.count_nonzero(navigator.grid.seen))
+        covered = navigator.world.covered_count()
         candidate = self.explore.candidate_goal
         distance = math.inf if candidate is None else navigator.distance_to(candidate)
         if (self.progress is not None and candidate is not None
                 and not np.array_equal(candidate, self.progress[3])):
             previous = self.progress[3]
-            fresh = previous is None or navigator.candidate_viewed(previous)
+            fresh = previous is None or navigator.world.candidates.is_viewed(previous)
             self.progress = (self.progress[0], now_s if fresh else self.progress[1], distance,
                              candidate)
         if (self.progress is None or covered >= self.progress[0] + STALL_CELLS
