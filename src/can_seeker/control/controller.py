@@ -116,9 +116,8 @@ class Controller:
 
     def __init__(self, config, camera_info_topic: str = 'camera_info',
                  arm_hint: str = 'call the enable service with true'):
-        """``config`` is :func:`~can_seeker.control.tuning.controller_settings` of the read
-        :data:`PARAMS`; ``camera_info_topic`` names that input in the missing inputs,
-        ``arm_hint`` says how to arm the node."""
+        """``config``: :func:`~can_seeker.control.tuning.controller_settings` of :data:`PARAMS`;
+        ``camera_info_topic`` names that input when missing; ``arm_hint``: how to arm the node."""
         self.config, self.arm_hint, self.enabled = config, arm_hint, bool(config.enabled)
         self.parts = parts = ControllerParts(config, camera_info_topic)
         self.wander, self.scan_sources = parts.wander, parts.scan_sources
