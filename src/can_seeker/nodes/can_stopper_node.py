@@ -30,7 +30,6 @@ import time
 
 import numpy as np
 import rospy
-import tf2_ros
 from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from sensor_msgs.msg import CameraInfo, LaserScan, TimeReference
@@ -53,9 +52,11 @@ from can_seeker.health import ERROR, OK, WARN, InputMonitor
 from can_seeker.msg import CanDetection
 from can_seeker.params import UnsafeParamError, read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import (controller_markers, occupancy_grid, path_msg, twist,
                                      twist_stamped)
+from can_seeker.tf_demand import ChangeCache
 from can_seeker.throttle import KindThrottle
 
 COVERAGE_PERIOD_S = 1.0
@@ -81,10 +82,9 @@ class CanStopperNode:
         self.guard = TickGuard(lambda message: rospy.logerr('can_stopper: %s' % message))
         self.lock = threading.Lock()
         self.shutting_down = False
-        self.tf_buffer = tf2_ros.Buffer()
-        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.tf = SensorTf(warn=lambda message: rospy.logwarn('can_stopper: %s' % message))
         # Camera and scan sensors alike: no fallback here (the camera's is ~camera_x).
-        self.sensor_poses = CameraPoseSource.from_tf(self.tf_buffer, params.base_frame,
+        self.sensor_poses = CameraPoseSource.from_tf(self.tf, params.base_frame,
                                                      name='can_stopper')
         self.cmd_pub = rospy.Publisher('cmd_vel', Twist, queue_size=1)
         self.stamped_cmd_pub = rospy.Publisher('cmd_vel_stamped', TwistStamped, queue_size=10)
@@ -99,6 +99,7 @@ class CanStopperNode:
         self.odom_frame = params.odom_frame
         self.camera_pose_logged = set()
         self.intrinsics = None
+        self.camera_info_intrinsics = ChangeCache(intrinsics_from_k)
         self.logged_view = None
         self.published_state = None
         self.publish_state()
@@ -175,7 +176,7 @@ class CanStopperNode:
         """The camera's intrinsics, for the floor footprint of each frame (:meth:`view_of`)."""
         self.monitors['camera_info'].received(rospy.get_time(), info.header.stamp.to_sec())
         try:
-            intrinsics = intrinsics_from_k(info.width, info.height, info.K)
+            intrinsics = self.camera_info_intrinsics(info.width, info.height, info.K)
         except ValueError as error:
             rospy.logerr_throttle(5.0, 'can_stopper: bad camera_info: %s' % error)
             return

@@ -15,7 +15,6 @@ import time
 
 import numpy as np
 import rospy
-import tf2_ros
 from dynamic_reconfigure.server import Server
 from sensor_msgs.msg import CameraInfo, Image
 
@@ -29,6 +28,7 @@ from can_seeker.msg import CanDetection
 from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import detection_msg, image_msg
 from can_seeker.vision.report import PARAMS as REPORT_PARAMS
@@ -36,6 +36,7 @@ from can_seeker.vision.report import WINDOW_WIDTH_PX, CanModel, can_report, fall
 from can_seeker.ros.image_input import image_decoder, subscribe_images
 from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
                                             NoColourError)
+from can_seeker.tf_demand import ChangeCache
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                         draw_annotation)
@@ -78,11 +79,12 @@ class ImageConverterNode:
         self.detector = RedCanDetector(DetectorSettings.from_values(self.config))
         self.can_model = CanModel.from_values(self.config)
         self.intrinsics = None
+        # Converted again only when camera_info's fields change (most drivers repeat them).
+        self.camera_info_intrinsics = ChangeCache(intrinsics_from_camera_info)
         self.annotated_buffer = None
-        self.tf_buffer = tf2_ros.Buffer()
-        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.tf = SensorTf(warn=lambda message: rospy.logwarn('image_converter: %s' % message))
         self.camera_poses = CameraPoseSource.from_tf(
-            self.tf_buffer, self.config.base_frame,
+            self.tf, self.config.base_frame,
             fallback_pose(self.config.camera_height, self.config.camera_pitch_deg,
                           self.config.camera_x),
             'image_converter', require_optical=True)
@@ -126,7 +128,7 @@ class ImageConverterNode:
     def on_camera_info(self, msg):
         self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
-            self.intrinsics = intrinsics_from_camera_info(
+            self.intrinsics = self.camera_info_intrinsics(
                 msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
                 self.config.image_rectified)
         except ValueError as error:

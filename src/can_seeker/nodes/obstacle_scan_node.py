@@ -18,7 +18,6 @@ import threading
 import time
 
 import rospy
-import tf2_ros
 from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from std_srvs.srv import Empty, EmptyResponse
 
@@ -29,8 +28,10 @@ from can_seeker.health import ERROR, OK, Outcomes
 from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import read_params
 from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import image_msg, laser_scan
+from can_seeker.tf_demand import ChangeCache
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
@@ -53,13 +54,14 @@ class ObstacleScanNode:
                                      robot_radius_m=self.config.robot_radius,
                                      robot_height_m=self.config.robot_height)
         self.intrinsics = None
+        # Converted again only when camera_info's fields change (most drivers repeat them).
+        self.camera_info_intrinsics = ChangeCache(intrinsics_from_camera_info)
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.scanner_lock = threading.Lock()
         self.reset_s = -math.inf
-        self.tf_buffer = tf2_ros.Buffer()
-        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.tf = SensorTf(warn=lambda message: rospy.logwarn('obstacle_scan: %s' % message))
         self.camera_poses = CameraPoseSource.from_tf(
-            self.tf_buffer, self.config.scan_frame,
+            self.tf, self.config.scan_frame,
             fallback_pose(self.config.camera_height, self.config.camera_pitch_deg,
                           self.config.camera_x),
             'obstacle_scan', require_optical=True)
@@ -85,7 +87,7 @@ class ObstacleScanNode:
     def on_camera_info(self, msg):
         self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
-            self.intrinsics = intrinsics_from_camera_info(
+            self.intrinsics = self.camera_info_intrinsics(
                 msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
                 self.config.image_rectified)
         except ValueError as error:

@@ -63,8 +63,9 @@ class CameraPoseSource:
     def from_tf(cls, buffer, base_frame: str, fallback: Optional[CameraPose] = None,
                 name: str = 'node', refresh_s: float = REFRESH_S,
                 require_optical: bool = False) -> 'CameraPoseSource':
-        """A source on a tf2_ros.Buffer (latest transforms), warning (and reporting a wrong
-        frame as an error) through rospy as ``name``."""
+        """A source on a tf2_ros.Buffer or a :class:`can_seeker.ros.sensor_tf.SensorTf`
+        (latest transforms), warning (and reporting a wrong frame as an error) through rospy as
+        ``name``."""
         return cls(lambda target, source: buffer.lookup_transform(
                        target, source, rospy.Time(0)).transform,
                    base_frame, fallback,
