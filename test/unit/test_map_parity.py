@@ -24,6 +24,31 @@ LAYERS = (('obstacles', 'evidence'), ('coverage', 'seen'), ('floor', 'observed')
           ('obstacles', 'contact'))
 
 
+def samples(origin, offsets, squared, step_um):
+    """(points N x M x 2, distances M): the straightforward sampling of the rays, each point
+    rounded from its exact place as one array of (x, y)."""
+    distances = np.arange(math.isqrt(int(squared.max())) // step_um + 1, dtype=np.int64) * step_um
+    lengths = np.maximum(np.sqrt(squared.astype(float)), 1.0)
+    points = distances.astype(float)[None, :, None] * offsets.astype(float)[:, None, :]
+    points /= lengths[:, None, None]
+    return np.rint(points) + origin[None, :, :], distances
+
+
+def test_ray_samples_are_the_straightforward_ones():
+    """:func:`ray_samples` x and y are the straightforward sampling's points exactly."""
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        origin = lattice(rng.uniform(-3.0, 3.0, 2)).reshape(1, 2)
+        ends = lattice(rng.uniform(-6.0, 6.0, (rng.integers(1, 400), 2)))
+        offsets = ends - origin
+        squared = (offsets * offsets).sum(axis=1)
+        step_um = int(rng.choice((12500, 25000, 3333)))
+        x_um, y_um, distances = ray_samples(origin, offsets, squared, step_um)
+        points, expected = samples(origin, offsets, squared, step_um)
+        assert np.array_equal(distances, expected)
+        assert np.array_equal(x_um, points[..., 0]) and np.array_equal(y_um, points[..., 1])
+
+
 def reference_add_scan(world, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_s=0.0,
                        source=''):
     """:meth:`WorldMap.update_from_scan`, each layer's samples taken and marked on their own,
@@ -58,7 +83,7 @@ def reference_add_scan(world, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_
     ends = lattice(ends_xy)
     offsets = ends - origin
     squared = (offsets * offsets).sum(axis=1)
-    points, fractions = ray_samples(origin, offsets, squared, resolution_um // RAY_STEPS_PER_CELL)
+    points, fractions = samples(origin, offsets, squared, resolution_um // RAY_STEPS_PER_CELL)
     reach = fractions[None, :] + np.where(hits, resolution_um, 0)[:, None]
     along = reach * reach <= squared[:, None]
     beyond_blind = fractions[None, :] >= clear_um
@@ -83,8 +108,8 @@ def reference_add_scan(world, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_
     obstacles.hit_xy[hx[first], hy[first]] = hit_xy[first]
     free &= ~hit
     blind &= ~hit
-    fine_points, fine_fractions = ray_samples(origin, offsets, squared,
-                                               fine_um // RAY_STEPS_PER_CELL)
+    fine_points, fine_fractions = samples(origin, offsets, squared,
+                                           fine_um // RAY_STEPS_PER_CELL)
     fine_reach = fine_fractions[None, :] + np.where(hits, fine_um, 0)[:, None]
     fine_free = (fine_reach * fine_reach <= squared[:, None]) & (fine_fractions[None, :]
                                                                  >= clear_um)

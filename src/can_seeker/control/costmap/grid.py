@@ -90,15 +90,21 @@ def isqrt(squared: np.ndarray) -> np.ndarray:
 
 
 def ray_samples(origin: np.ndarray, offsets: np.ndarray, squared: np.ndarray,
-                step_um: int) -> Tuple[np.ndarray, np.ndarray]:
-    """(points N x M x 2, distances M) in whole um of the samples every ``step_um`` from
+                step_um: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x N x M, y N x M, distances M) in whole um of the samples every ``step_um`` from
     ``origin`` (1 x 2 um) along the rays to ``origin + offsets`` (N x 2 um; ``squared`` their
     squared lengths), as many as the longest ray holds. Each point is the lattice point
-    nearest to the exact one, as integer-valued floats: from integers by * / sqrt alone."""
+    nearest to the exact one, as integer-valued floats: from integers by * / sqrt alone. The
+    coordinates come as two arrays: each is one contiguous pass per operation."""
     distances = np.arange(math.isqrt(int(squared.max())) // step_um + 1, dtype=np.int64) * step_um
-    lengths = np.maximum(np.sqrt(squared.astype(float)), 1.0)
-    points = distances.astype(float)[None, :, None] * offsets.astype(float)[:, None, :]
-    points /= lengths[:, None, None]
-    np.rint(points, out=points)
-    points += origin[None, :, :]
-    return points, distances
+    along = distances.astype(float)[None, :]
+    lengths = np.maximum(np.sqrt(squared.astype(float)), 1.0)[:, None]
+    offsets = offsets.astype(float)
+    coordinates = []
+    for axis in range(2):
+        values = along * offsets[:, axis:axis + 1]
+        values /= lengths
+        np.rint(values, out=values)
+        values += origin[0, axis]
+        coordinates.append(values)
+    return coordinates[0], coordinates[1], distances
