@@ -62,11 +62,16 @@ class ScanRays:
         fx, fy = x_um.astype(np.int64), y_um.astype(np.int64)
         # negative indices wrap to huge unsigned ones: one comparison per bound
         inside = ((fx.view(np.uint64) < fine_cells) & (fy.view(np.uint64) < fine_cells))
-        fine = np.where(inside, fx * fine_cells + fy, -1)
         step = OBSERVED_SUBDIVISION
-        coarse = np.where(inside[:, ::step], (fx[:, ::step] // step) * grid.cells
-                          + fy[:, ::step] // step, -1)
-        return fine, coarse
+        # contiguous copies of the coarse samples: integer division is slow on strided views
+        coarse, coarse_y = fx[:, ::step].copy(), fy[:, ::step].copy()
+        coarse //= step
+        coarse_y //= step
+        coarse *= grid.cells
+        coarse += coarse_y
+        fx *= fine_cells
+        fx += fy
+        return np.where(inside, fx, -1), np.where(inside[:, ::step], coarse, -1)
 
     def marked(self, flat_cells: np.ndarray) -> np.ndarray:
         """Boolean coarse layer of the cells ``flat_cells`` (flat indices, -1: outside, none)."""
