@@ -49,6 +49,25 @@ def test_ray_samples_are_the_straightforward_ones():
         assert np.array_equal(x_um, points[..., 0]) and np.array_equal(y_um, points[..., 1])
 
 
+def test_lattice_index_is_the_straightforward_one():
+    """:meth:`GridGeometry.lattice_index` gives the clipped floor indices and whether both
+    lie on the layer, inside, on the edges and outside it."""
+    world = WorldMap(0.1, 4.0)
+    grid = world.grid
+    rng = np.random.default_rng(3)
+    points = np.rint(rng.uniform(-4e6, 4e6, (2000, 2)))
+    points[:8] = [[grid.origin_um, 0], [-grid.origin_um, 0], [grid.origin_um - 1, 0],
+                  [-grid.origin_um - 1, 0], [0, grid.origin_um], [0, -grid.origin_um],
+                  [0, grid.origin_um - 1], [0, -grid.origin_um - 1]]
+    for resolution_um, cells in ((grid.resolution_um, grid.cells),
+                                 (grid.fine_um, grid.fine_cells)):
+        i, j, inside = grid.lattice_index(points, resolution_um, cells)
+        ij = np.floor((points - grid.origin_um) / resolution_um).astype(np.int64)
+        assert np.array_equal(inside, np.all((ij >= 0) & (ij < cells), axis=1))
+        assert np.array_equal(np.stack((i, j), axis=1), np.clip(ij, 0, cells - 1))
+        assert not inside.all() and inside.any()
+
+
 def reference_add_scan(world, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_s=0.0,
                        source=''):
     """:meth:`WorldMap.update_from_scan`, each layer's samples taken and marked on their own,

@@ -44,9 +44,12 @@ class GridGeometry:
         indices are clipped where outside. The floor of the rounded quotient of two integers
         below 2^52 is exactly the integer quotient."""
         ij = np.floor((xy_um - self.origin_um) / resolution_um).astype(np.int64)
-        inside = np.all((ij >= 0) & (ij < cells), axis=1)
-        ij = np.clip(ij, 0, cells - 1)
-        return ij[:, 0], ij[:, 1], inside
+        i, j = ij[:, 0], ij[:, 1]
+        # negative indices wrap to huge unsigned ones: one comparison per bound
+        inside = (i.view(np.uint64) < cells) & (j.view(np.uint64) < cells)
+        np.maximum(ij, 0, out=ij)
+        np.minimum(ij, cells - 1, out=ij)
+        return i, j, inside
 
     def centres_um(self, i, j, resolution_um: int) -> np.ndarray:
         """(x, y) um of the centres of cells (i, j) on a layer of ``resolution_um``."""
