@@ -24,6 +24,50 @@ LAYERS = (('obstacles', 'evidence'), ('coverage', 'seen'), ('floor', 'observed')
           ('obstacles', 'contact'))
 
 
+def samples(origin, offsets, squared, step_um):
+    """(points N x M x 2, distances M): the straightforward sampling of the rays, each point
+    rounded from its exact place as one array of (x, y)."""
+    distances = np.arange(math.isqrt(int(squared.max())) // step_um + 1, dtype=np.int64) * step_um
+    lengths = np.maximum(np.sqrt(squared.astype(float)), 1.0)
+    points = distances.astype(float)[None, :, None] * offsets.astype(float)[:, None, :]
+    points /= lengths[:, None, None]
+    return np.rint(points) + origin[None, :, :], distances
+
+
+def test_ray_samples_are_the_straightforward_ones():
+    """:func:`ray_samples` x and y are the straightforward sampling's points exactly."""
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        origin = lattice(rng.uniform(-3.0, 3.0, 2)).reshape(1, 2)
+        ends = lattice(rng.uniform(-6.0, 6.0, (rng.integers(1, 400), 2)))
+        offsets = ends - origin
+        squared = (offsets * offsets).sum(axis=1)
+        step_um = int(rng.choice((12500, 25000, 3333)))
+        x_um, y_um, distances = ray_samples(origin, offsets, squared, step_um)
+        points, expected = samples(origin, offsets, squared, step_um)
+        assert np.array_equal(distances, expected)
+        assert np.array_equal(x_um, points[..., 0]) and np.array_equal(y_um, points[..., 1])
+
+
+def test_lattice_index_is_the_straightforward_one():
+    """:meth:`GridGeometry.lattice_index` gives the clipped floor indices and whether both
+    lie on the layer, inside, on the edges and outside it."""
+    world = WorldMap(0.1, 4.0)
+    grid = world.grid
+    rng = np.random.default_rng(3)
+    points = np.rint(rng.uniform(-4e6, 4e6, (2000, 2)))
+    points[:8] = [[grid.origin_um, 0], [-grid.origin_um, 0], [grid.origin_um - 1, 0],
+                  [-grid.origin_um - 1, 0], [0, grid.origin_um], [0, -grid.origin_um],
+                  [0, grid.origin_um - 1], [0, -grid.origin_um - 1]]
+    for resolution_um, cells in ((grid.resolution_um, grid.cells),
+                                 (grid.fine_um, grid.fine_cells)):
+        i, j, inside = grid.lattice_index(points, resolution_um, cells)
+        ij = np.floor((points - grid.origin_um) / resolution_um).astype(np.int64)
+        assert np.array_equal(inside, np.all((ij >= 0) & (ij < cells), axis=1))
+        assert np.array_equal(np.stack((i, j), axis=1), np.clip(ij, 0, cells - 1))
+        assert not inside.all() and inside.any()
+
+
 def reference_add_scan(world, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_s=0.0,
                        source=''):
     """:meth:`WorldMap.update_from_scan`, each layer's samples taken and marked on their own,
@@ -58,7 +102,7 @@ def reference_add_scan(world, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_
     ends = lattice(ends_xy)
     offsets = ends - origin
     squared = (offsets * offsets).sum(axis=1)
-    points, fractions = ray_samples(origin, offsets, squared, resolution_um // RAY_STEPS_PER_CELL)
+    points, fractions = samples(origin, offsets, squared, resolution_um // RAY_STEPS_PER_CELL)
     reach = fractions[None, :] + np.where(hits, resolution_um, 0)[:, None]
     along = reach * reach <= squared[:, None]
     beyond_blind = fractions[None, :] >= clear_um
@@ -83,8 +127,8 @@ def reference_add_scan(world, origin_xy, ends_xy, hits, clear_from_m=0.0, stamp_
     obstacles.hit_xy[hx[first], hy[first]] = hit_xy[first]
     free &= ~hit
     blind &= ~hit
-    fine_points, fine_fractions = ray_samples(origin, offsets, squared,
-                                               fine_um // RAY_STEPS_PER_CELL)
+    fine_points, fine_fractions = samples(origin, offsets, squared,
+                                           fine_um // RAY_STEPS_PER_CELL)
     fine_reach = fine_fractions[None, :] + np.where(hits, fine_um, 0)[:, None]
     fine_free = (fine_reach * fine_reach <= squared[:, None]) & (fine_fractions[None, :]
                                                                  >= clear_um)

@@ -77,8 +77,8 @@ def _touching(poses: np.ndarray, points: np.ndarray,
               clearance_m: Union[float, np.ndarray]) -> np.ndarray:
     """(..., M, N): base_link at pose m (``poses`` ..., M x 2) is nearer point n than it may
     come: its clearance, or where it already is within it, its distance now."""
-    clearance = np.broadcast_to(np.asarray(clearance_m, float), (len(points),))
-    limit = np.minimum(clearance, np.linalg.norm(points, axis=1)) - CLOSER_TOLERANCE_M
+    limit = (np.minimum(np.asarray(clearance_m, float), np.linalg.norm(points, axis=1))
+             - CLOSER_TOLERANCE_M)
     squared = ((poses * poses).sum(axis=-1)[..., None] + (points * points).sum(axis=1)
                - 2.0 * poses @ points.T)
     return squared < np.where(limit > 0.0, limit * limit, -1.0)

@@ -44,9 +44,12 @@ class GridGeometry:
         indices are clipped where outside. The floor of the rounded quotient of two integers
         below 2^52 is exactly the integer quotient."""
         ij = np.floor((xy_um - self.origin_um) / resolution_um).astype(np.int64)
-        inside = np.all((ij >= 0) & (ij < cells), axis=1)
-        ij = np.clip(ij, 0, cells - 1)
-        return ij[:, 0], ij[:, 1], inside
+        i, j = ij[:, 0], ij[:, 1]
+        # negative indices wrap to huge unsigned ones: one comparison per bound
+        inside = (i.view(np.uint64) < cells) & (j.view(np.uint64) < cells)
+        np.maximum(ij, 0, out=ij)
+        np.minimum(ij, cells - 1, out=ij)
+        return i, j, inside
 
     def centres_um(self, i, j, resolution_um: int) -> np.ndarray:
         """(x, y) um of the centres of cells (i, j) on a layer of ``resolution_um``."""
@@ -90,15 +93,21 @@ def isqrt(squared: np.ndarray) -> np.ndarray:
 
 
 def ray_samples(origin: np.ndarray, offsets: np.ndarray, squared: np.ndarray,
-                step_um: int) -> Tuple[np.ndarray, np.ndarray]:
-    """(points N x M x 2, distances M) in whole um of the samples every ``step_um`` from
+                step_um: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x N x M, y N x M, distances M) in whole um of the samples every ``step_um`` from
     ``origin`` (1 x 2 um) along the rays to ``origin + offsets`` (N x 2 um; ``squared`` their
     squared lengths), as many as the longest ray holds. Each point is the lattice point
-    nearest to the exact one, as integer-valued floats: from integers by * / sqrt alone."""
+    nearest to the exact one, as integer-valued floats: from integers by * / sqrt alone. The
+    coordinates come as two arrays: each is one contiguous pass per operation."""
     distances = np.arange(math.isqrt(int(squared.max())) // step_um + 1, dtype=np.int64) * step_um
-    lengths = np.maximum(np.sqrt(squared.astype(float)), 1.0)
-    points = distances.astype(float)[None, :, None] * offsets.astype(float)[:, None, :]
-    points /= lengths[:, None, None]
-    np.rint(points, out=points)
-    points += origin[None, :, :]
-    return points, distances
+    along = distances.astype(float)[None, :]
+    lengths = np.maximum(np.sqrt(squared.astype(float)), 1.0)[:, None]
+    offsets = offsets.astype(float)
+    coordinates = []
+    for axis in range(2):
+        values = along * offsets[:, axis:axis + 1]
+        values /= lengths
+        np.rint(values, out=values)
+        values += origin[0, axis]
+        coordinates.append(values)
+    return coordinates[0], coordinates[1], distances

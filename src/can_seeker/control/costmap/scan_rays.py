@@ -36,9 +36,9 @@ class ScanRays:
         self.ends_um = lattice(self.ends_xy)
         offsets = self.ends_um - self.origin_um
         self.squared = (offsets * offsets).sum(axis=1)
-        points, self.fractions = ray_samples(self.origin_um, offsets, self.squared,
-                                             grid.fine_um // RAY_STEPS_PER_CELL)
-        self.fine_cells, self.coarse_cells = self._sample_cells(points)
+        x_um, y_um, self.fractions = ray_samples(self.origin_um, offsets, self.squared,
+                                                 grid.fine_um // RAY_STEPS_PER_CELL)
+        self.fine_cells, self.coarse_cells = self._sample_cells(x_um, y_um)
         self.coarse_fractions = self.fractions[::OBSERVED_SUBDIVISION]
         # A sample at f lies no farther than r from the origin where f <= isqrt(r^2).
         self.length_um = isqrt(self.squared)
@@ -48,24 +48,30 @@ class ScanRays:
         """True for a scan without rays."""
         return len(self.ends_xy) == 0
 
-    def _sample_cells(self, points_um: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-        """(fine, coarse) flat indices of the cells holding the fine samples ``points_um``
-        (N x M x 2, whole um; overwritten) and of every :data:`OBSERVED_SUBDIVISION`-th of
-        them (the coarse samples), -1 outside the grid (see
+    def _sample_cells(self, x_um: np.ndarray, y_um: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """(fine, coarse) flat indices of the cells holding the fine samples at ``x_um``,
+        ``y_um`` (N x M each, whole um; overwritten) and of every
+        :data:`OBSERVED_SUBDIVISION`-th of them (the coarse samples), -1 outside the grid (see
         :meth:`GridGeometry.lattice_index`; a fine cell's indices divided by the subdivision
         are its coarse cell's)."""
         fine_cells, grid = self.grid.fine_cells, self.grid
-        np.subtract(points_um, grid.origin_um, out=points_um)
-        np.divide(points_um, grid.fine_um, out=points_um)
-        np.floor(points_um, out=points_um)
-        fx, fy = points_um[..., 0].astype(np.int64), points_um[..., 1].astype(np.int64)
+        for values in (x_um, y_um):
+            np.subtract(values, grid.origin_um, out=values)
+            np.divide(values, grid.fine_um, out=values)
+            np.floor(values, out=values)
+        fx, fy = x_um.astype(np.int64), y_um.astype(np.int64)
         # negative indices wrap to huge unsigned ones: one comparison per bound
         inside = ((fx.view(np.uint64) < fine_cells) & (fy.view(np.uint64) < fine_cells))
-        fine = np.where(inside, fx * fine_cells + fy, -1)
         step = OBSERVED_SUBDIVISION
-        coarse = np.where(inside[:, ::step], (fx[:, ::step] // step) * grid.cells
-                          + fy[:, ::step] // step, -1)
-        return fine, coarse
+        # contiguous copies of the coarse samples: integer division is slow on strided views
+        coarse, coarse_y = fx[:, ::step].copy(), fy[:, ::step].copy()
+        coarse //= step
+        coarse_y //= step
+        coarse *= grid.cells
+        coarse += coarse_y
+        fx *= fine_cells
+        fx += fy
+        return np.where(inside, fx, -1), np.where(inside[:, ::step], coarse, -1)
 
     def marked(self, flat_cells: np.ndarray) -> np.ndarray:
         """Boolean coarse layer of the cells ``flat_cells`` (flat indices, -1: outside, none)."""

@@ -81,13 +81,16 @@ class UnknownFloorLayer:
         fx, fy = grid.window(centre, radius_um, grid.fine_um, grid.fine_cells)
         if len(fx) == 0 or len(fy) == 0:
             return np.zeros((0, 2))
-        gx, gy = np.meshgrid(fx, fy, indexing='ij')
+        # the window's rows and columns as index arrays that broadcast to its cells
+        gx, gy = fx[:, None], fy[None, :]
         cx, cy = gx // OBSERVED_SUBDIVISION, gy // OBSERVED_SUBDIVISION
         waiting = self.blind_disc_s[cx, cy] < max_blind_disc_s
         if not waiting.all():
-            waiting |= obstacles.near_recent(cx, cy, OBSTACLE_REACH_M, max_blind_s)
+            waiting |= obstacles.near_recent(*np.broadcast_arrays(cx, cy), OBSTACLE_REACH_M,
+                                             max_blind_s)
         unknown = ~self.observed[gx, gy] & ~obstacles.occupied_at(cx, cy) & waiting
-        points = grid.centres_um(gx[unknown], gy[unknown], grid.fine_um).reshape(-1, 2)
+        ux, uy = np.nonzero(unknown)
+        points = grid.centres_um(fx[ux], fy[uy], grid.fine_um).reshape(-1, 2)
         return points[within(points, centre, radius_um)] / SCALE
 
     def observed_cells(self) -> np.ndarray:
