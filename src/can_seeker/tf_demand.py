@@ -1,11 +1,10 @@
-"""When a node that looks up its sensors' mounts in TF needs /tf at all, and a conversion kept
-while its input stays the same.
+"""When a node that looks up its sensors' mounts in TF needs /tf at all.
 
 A mount on a fixed joint is on /tf_static; /tf carries what moves (the robot's odometry
 transform at tens of Hz, a pan-tilt joint). A node whose every lookup resolves from /tf_static
 alone gains nothing from /tf but the cost of receiving each message (:class:`TfDemand`).
 """
-from typing import Callable, Hashable, Set
+from typing import Hashable, Set
 
 
 class TfDemand:
@@ -29,24 +28,3 @@ class TfDemand:
     def needs_tf(self) -> bool:
         return not self.resolved_static or bool(self.dynamic_pairs)
 
-
-class ChangeCache:
-    """``convert(*fields)`` computed again only when the fields differ from the last call's
-    (== on each field, e.g. a camera_info's K, D, P): the same result or the same exception."""
-
-    def __init__(self, convert: Callable):
-        self.convert = convert
-        self.fields = None
-        self.value = None
-        self.error = None
-
-    def __call__(self, *fields):
-        if self.fields is None or fields != self.fields:
-            try:
-                self.value, self.error = self.convert(*fields), None
-            except ValueError as error:
-                self.value, self.error = None, error
-            self.fields = fields
-        if self.error is not None:
-            raise self.error
-        return self.value

@@ -7,10 +7,9 @@ import tf2_ros
 from geometry_msgs.msg import TransformStamped
 from tf2_msgs.msg import TFMessage
 
-from can_seeker.camera_geometry import intrinsics_from_k
 from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.ros.sensor_tf import SensorTf
-from can_seeker.tf_demand import ChangeCache, TfDemand
+from can_seeker.tf_demand import TfDemand
 
 LATEST = rospy.Time(0)
 
@@ -157,22 +156,3 @@ def test_tf_demand():
     demand.looked_up(('base_link', 'camera'), True)
     assert not demand.needs_tf
 
-
-def test_change_cache_converts_once_per_change_and_repeats_an_error():
-    calls = []
-
-    def convert(width, height, k):
-        calls.append(k)
-        return intrinsics_from_k(width, height, k)
-
-    cache = ChangeCache(convert)
-    k = (200.0, 0.0, 160.0, 0.0, 200.0, 120.0, 0.0, 0.0, 1.0)
-    first = cache(320, 240, k)
-    assert cache(320, 240, tuple(k)) is first and len(calls) == 1
-    assert cache(640, 480, k).width == 640 and len(calls) == 2
-    bad = (0.0,) * 9
-    for _ in range(2):
-        with pytest.raises(ValueError, match='no valid focal lengths'):
-            cache(320, 240, bad)
-    assert len(calls) == 3
-    assert cache(320, 240, k) == first

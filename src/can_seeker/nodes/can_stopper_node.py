@@ -56,7 +56,6 @@ from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import (controller_markers, occupancy_grid, path_msg, twist,
                                      twist_stamped)
-from can_seeker.tf_demand import ChangeCache
 from can_seeker.throttle import KindThrottle
 
 COVERAGE_PERIOD_S = 1.0
@@ -99,7 +98,6 @@ class CanStopperNode:
         self.odom_frame = params.odom_frame
         self.camera_pose_logged = set()
         self.intrinsics = None
-        self.camera_info_intrinsics = ChangeCache(intrinsics_from_k)
         self.logged_view = None
         self.published_state = None
         self.publish_state()
@@ -176,7 +174,7 @@ class CanStopperNode:
         """The camera's intrinsics, for the floor footprint of each frame (:meth:`view_of`)."""
         self.monitors['camera_info'].received(rospy.get_time(), info.header.stamp.to_sec())
         try:
-            intrinsics = self.camera_info_intrinsics(info.width, info.height, info.K)
+            intrinsics = intrinsics_from_k(info.width, info.height, info.K)
         except ValueError as error:
             rospy.logerr_throttle(5.0, 'can_stopper: bad camera_info: %s' % error)
             return

@@ -36,7 +36,6 @@ from can_seeker.vision.report import WINDOW_WIDTH_PX, CanModel, can_report, fall
 from can_seeker.ros.image_input import image_decoder, subscribe_images
 from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
                                             NoColourError)
-from can_seeker.tf_demand import ChangeCache
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                         draw_annotation)
@@ -79,8 +78,6 @@ class ImageConverterNode:
         self.detector = RedCanDetector(DetectorSettings.from_values(self.config))
         self.can_model = CanModel.from_values(self.config)
         self.intrinsics = None
-        # Converted again only when camera_info's fields change (most drivers repeat them).
-        self.camera_info_intrinsics = ChangeCache(intrinsics_from_camera_info)
         self.annotated_buffer = None
         self.tf = SensorTf(warn=lambda message: rospy.logwarn('image_converter: %s' % message))
         self.camera_poses = CameraPoseSource.from_tf(
@@ -128,7 +125,7 @@ class ImageConverterNode:
     def on_camera_info(self, msg):
         self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
-            self.intrinsics = self.camera_info_intrinsics(
+            self.intrinsics = intrinsics_from_camera_info(
                 msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
                 self.config.image_rectified)
         except ValueError as error:

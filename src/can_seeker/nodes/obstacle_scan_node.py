@@ -31,7 +31,6 @@ from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import image_msg, laser_scan
-from can_seeker.tf_demand import ChangeCache
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
@@ -54,8 +53,6 @@ class ObstacleScanNode:
                                      robot_radius_m=self.config.robot_radius,
                                      robot_height_m=self.config.robot_height)
         self.intrinsics = None
-        # Converted again only when camera_info's fields change (most drivers repeat them).
-        self.camera_info_intrinsics = ChangeCache(intrinsics_from_camera_info)
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.scanner_lock = threading.Lock()
         self.reset_s = -math.inf
@@ -87,7 +84,7 @@ class ObstacleScanNode:
     def on_camera_info(self, msg):
         self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
-            self.intrinsics = self.camera_info_intrinsics(
+            self.intrinsics = intrinsics_from_camera_info(
                 msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
                 self.config.image_rectified)
         except ValueError as error:
