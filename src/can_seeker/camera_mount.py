@@ -7,7 +7,7 @@ is its optical frame (z forward, x right, y down). The URDF holds the default mo
 import math
 import random
 from dataclasses import dataclass
-from typing import Any, Callable, Optional, Tuple
+from typing import Any, Callable, Tuple
 
 from can_seeker.params import Param, read_params
 
@@ -69,23 +69,3 @@ def mount_from_params(get_param: Callable[[str, Any], Any],
     an invalid value is reported through ``warn`` and replaced by its default."""
     config = read_params(MOUNT_PARAMS, get_param, warn)
     return CameraMount(config.camera_height, config.camera_pitch_deg)
-
-
-FALLBACK_MOUNT_PARAMS = (
-    Param('camera_height', 0.25, 'fallback height of camera_link above the floor while TF has '
-          'no camera pose (m); 0 = unknown: no camera pose without TF', 0.0, 5.0),
-    Param('camera_pitch_deg', 25.0, 'fallback camera pitch below the horizon while TF has no '
-          'camera pose (deg, positive down)', -89.0, 89.0),
-    Param('camera_x', CAMERA_FORWARD_M, 'fallback distance of camera_link ahead of the base '
-          'frame while TF has no camera pose (m)', -2.0, 2.0),
-)
-"""The one fallback camera mount of every node that needs the camera's pose: used only while
-TF has none (base frame <- the image's optical frame), with the URDF's mount as defaults."""
-
-
-def fallback_mount(config) -> Optional[CameraMount]:
-    """The fallback mount of an object with FALLBACK_MOUNT_PARAMS' names (a node's read
-    parameters), or None when ``camera_height`` is 0 (unknown)."""
-    if config.camera_height <= 0.0:
-        return None
-    return CameraMount(config.camera_height, config.camera_pitch_deg, config.camera_x)

@@ -1,11 +1,13 @@
 """Robot profiles: the body, wheels, speed limits, camera, lidar and bumper of one robot, read
 from a YAML file in ``config/robots/`` (or any path), and what they mean for each node.
 
-A profile file has a ``robot_profile`` section (the figures, units in their names) and one
-section per node (``image_converter``, ``obstacle_scan``, ``can_stopper``) in the nodes' own
-parameter names: robot.launch loads the file as it is with ``<rosparam>``, so the node sections
-are what the nodes get. The node sections take the figures by YAML alias (``*body_radius_m``),
-so each figure is written once; :func:`load_profile` checks that every node parameter
+A profile file has a ``robot_profile`` section (the figures, units in their names) and a
+section per node whose parameters the figures set (``obstacle_scan``, ``can_stopper``) in the
+nodes' own parameter names: robot.launch loads the file as it is with ``<rosparam>``, so the
+node sections are what the nodes get. The camera mount is no node parameter: the nodes take it
+from TF, which robot_description (``--robot``) and robot_state.launch make from the figures.
+The node sections take the figures by YAML alias (``*body_radius_m``), so each figure is
+written once; :func:`load_profile` checks that every node parameter
 :func:`node_params` derives from the figures is in the file with that value (a clear error
 otherwise), and lets the node sections hold further node parameters (tuning for this robot).
 The simulator and robot_description build the robot from the same figures. No rospy here.
@@ -202,13 +204,10 @@ def profile_from_dict(data: Any, name: str) -> RobotProfile:
 
 def node_params(profile: RobotProfile) -> Dict[str, Dict[str, Any]]:
     """The node parameters the profile's figures set, by node name."""
-    camera = {'camera_height': profile.camera.height_m,
-              'camera_pitch_deg': profile.camera.pitch_deg}
     return {
-        'image_converter': dict(camera),
-        'obstacle_scan': dict(camera, robot_radius=profile.body_radius_m,
-                              robot_height=profile.body_height_m),
-        'can_stopper': {'robot_radius': profile.body_radius_m, 'camera_x': profile.camera.forward_m,
+        'obstacle_scan': {'robot_radius': profile.body_radius_m,
+                          'robot_height': profile.body_height_m},
+        'can_stopper': {'robot_radius': profile.body_radius_m,
                         'max_linear': profile.max_linear_mps,
                         'max_angular': profile.max_angular_radps,
                         'max_linear_accel': profile.max_linear_accel_mps2,

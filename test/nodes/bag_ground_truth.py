@@ -11,6 +11,7 @@ import rospy
 import tf2_ros
 
 from can_seeker.camera_geometry import camera_pose_from_transform, intrinsics_from_k
+from can_seeker.can_size import CAN_COLOUR_BOTTOM_M
 
 TRUE_POSE_TOPIC = '/sim/base_pose_ground_truth'
 """The true base pose; bags recorded before it existed have /odom, then the true pose too."""
@@ -83,6 +84,18 @@ class GroundTruth:
             return None
         return (self.intrinsics.fx * optical[0] / optical[2] + self.intrinsics.cx,
                 self.intrinsics.fy * optical[1] / optical[2] + self.intrinsics.cy)
+
+    def plain_can_range(self, range_m, bearing_rad):
+        """The floor range image_converter gives these bags' can, plain red down to the floor,
+        whose true floor range is ``range_m`` at ``bearing_rad``: it takes the blob's lower
+        edge for where the can's colour begins, CAN_COLOUR_BOTTOM_M above the floor, so it
+        ranges the point of that edge's ray at that height, nearer along the camera's heading
+        by the ratio of the heights below the camera (see
+        camera_geometry.range_from_floor)."""
+        height_m = self.camera.position[2]
+        forward_m = (range_m + CAN_RADIUS_M) * math.cos(bearing_rad) - CAN_RADIUS_M
+        forward_m *= (height_m - CAN_COLOUR_BOTTOM_M) / height_m
+        return (forward_m + CAN_RADIUS_M) / math.cos(bearing_rad) - CAN_RADIUS_M
 
     def truth(self, stamp):
         """(visibility, centre pixel, range m, bearing rad) of the can at ``stamp``.

@@ -1,15 +1,33 @@
 """Shared by the can_stopper rostest nodes: feed CanDetection messages, record /cmd_vel and the
-stamps of cmd_vel_stamped."""
+stamps of cmd_vel_stamped; without a simulator, publish the camera's TF."""
 import threading
 import time
 
 import rospy
+import tf2_ros
 from geometry_msgs.msg import Twist, TwistStamped
 from std_msgs.msg import String
 
+from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
 from can_seeker.msg import CanDetection
+from can_seeker.ros.messages import transform_stamped
 
 FRAME = 'camera_optical_frame'
+MOUNT = CameraMount(0.25, 25.0)
+"""The camera mount broadcast_static_tf publishes (the simulated robot's)."""
+
+
+def broadcast_static_tf(*transforms):
+    """The camera's mount (MOUNT: base_link -> camera_link -> FRAME) and ``transforms`` on
+    /tf_static, in one latched message (a node's broadcasters share it): can_stopper places
+    a detection only through TF. Keep the returned broadcaster."""
+    broadcaster = tf2_ros.StaticTransformBroadcaster()
+    broadcaster.sendTransform([
+        transform_stamped(rospy.Time(0), 'base_link', 'camera_link', MOUNT.translation_m,
+                          MOUNT.rotation_xyzw),
+        transform_stamped(rospy.Time(0), 'camera_link', FRAME, (0.0, 0.0, 0.0),
+                          OPTICAL_IN_CAMERA_LINK_XYZW)] + list(transforms))
+    return broadcaster
 
 
 def detection(range_m, bearing_rad, confidence=1.0):

@@ -22,9 +22,15 @@ def test_the_profile_wins_over_the_node_defaults():
     assert params['/can_stopper/robot_radius'] == pytest.approx(0.124)
     assert params['/obstacle_scan/robot_radius'] == pytest.approx(0.124)
     assert params['/can_stopper/max_linear'] == pytest.approx(0.22)
-    assert params['/can_stopper/camera_x'] == pytest.approx(0.076)
-    assert params['/image_converter/camera_pitch_deg'] == 0.0
-    assert params['/obstacle_scan/camera_height'] == pytest.approx(0.102)
+    assert params['/obstacle_scan/robot_height'] == pytest.approx(0.15)
+
+
+def test_no_node_gets_a_camera_mount_parameter():
+    """The mount reaches the nodes through TF only (the robot's robot_state_publisher)."""
+    params = dump('robot:=turtlebot3_burger')
+    for node in ('image_converter', 'obstacle_scan', 'can_stopper'):
+        for name in ('camera_height', 'camera_pitch_deg', 'camera_x'):
+            assert '/%s/%s' % (node, name) not in params
 
 
 def test_the_users_params_win_over_the_profile(tmp_path):

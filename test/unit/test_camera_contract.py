@@ -1,5 +1,6 @@
 """The camera contract: camera_info's D undone on the pixels the geometry uses (raw images),
-P used for rectified ones; the image frame checked for an optical frame; one fallback mount."""
+P used for rectified ones; the image frame checked for an optical frame; the camera mount from
+TF only."""
 import math
 
 import cv2
@@ -8,14 +9,14 @@ import pytest
 import tf2_ros
 from geometry_msgs.msg import Transform
 
-from can_seeker.camera_geometry import (bearing_rad, camera_pose_from_mount,
-                                        camera_pose_from_transform, can_range_bearing,
-                                        floor_point, intrinsics_from_camera_info,
-                                        optical_frame_problem, pixel_ray, quaternion_matrix)
-from can_seeker.camera_mount import FALLBACK_MOUNT_PARAMS, CameraMount, fallback_mount
-from can_seeker.nodes import obstacle_scan_node
+from can_seeker.camera_geometry import (camera_pose_from_mount, camera_pose_from_transform,
+                                        can_range_bearing, floor_point,
+                                        intrinsics_from_camera_info, optical_frame_problem,
+                                        pixel_ray, quaternion_matrix)
+from can_seeker.camera_mount import CameraMount
+from can_seeker.control.controller import PARAMS as CAN_STOPPER_PARAMS
+from can_seeker.nodes import image_converter_node, obstacle_scan_node
 from can_seeker.ros.camera_pose import CameraPoseSource
-from can_seeker.vision import report
 from can_seeker.vision.camera_scan import scan_geometry
 
 K = [300.0, 0.0, 161.0, 0.0, 302.0, 118.0, 0.0, 0.0, 1.0]
@@ -191,8 +192,7 @@ def test_the_pose_source_gives_no_pose_for_a_wrong_frame_and_says_why():
     frames = {'camera_optical_frame': transform_of(optical_pose()),
               'camera_link': transform_of(camera_link_pose())}
     errors = []
-    fallback = camera_pose_from_mount(MOUNT)
-    source = CameraPoseSource(lambda base, frame: frames[frame], 'base_link', fallback,
+    source = CameraPoseSource(lambda base, frame: frames[frame], 'base_link',
                               require_optical=True, error=errors.append)
     assert source.pose('camera_link', 0.0) is None
     assert errors and "'camera_link'" in errors[-1] and 'no range' in errors[-1]
@@ -200,14 +200,15 @@ def test_the_pose_source_gives_no_pose_for_a_wrong_frame_and_says_why():
     pose = source.pose('camera_optical_frame', 0.0)
     assert pose is not None and pose.height_m == pytest.approx(0.25)
     assert 'camera_optical_frame' not in source.problems
-    # A frame with no TF yet still gets the fallback mount.
+    # A frame with no TF (yet) gets no pose either, and an error naming the transform.
     frames.pop('camera_optical_frame')
     source.clear()
 
     def missing(base, frame):
         raise tf2_ros.LookupException(frame)
     source.lookup = missing
-    assert source.pose('camera_optical_frame', 1.0) is fallback
+    assert source.pose('camera_optical_frame', 1.0) is None
+    assert errors[-1].startswith('no TF base_link <- camera_optical_frame')
 
 
 def test_a_wrong_frame_gives_a_detection_without_range_or_bearing():
@@ -224,25 +225,13 @@ def test_a_wrong_frame_gives_a_detection_without_range_or_bearing():
     assert not math.isnan(wrong[1])
 
 
-# One fallback mount.
+# The camera mount from TF only.
 
-def test_one_fallback_mount_group_serves_every_image_node():
-    names = [spec.name for spec in FALLBACK_MOUNT_PARAMS]
-    assert names == ['camera_height', 'camera_pitch_deg', 'camera_x']
-    for params in (report.PARAMS, obstacle_scan_node.PARAMS):
-        for spec in FALLBACK_MOUNT_PARAMS:
-            assert spec in params
+def test_no_node_has_camera_mount_parameters():
+    """The mount is TF's (robot_description, robot_state.launch); no node parameter can
+    disagree with it."""
+    for params in (image_converter_node.PARAMS, obstacle_scan_node.PARAMS, CAN_STOPPER_PARAMS):
+        names = [spec.name for spec in params]
+        assert not {'camera_height', 'camera_pitch_deg', 'camera_x'} & set(names)
+    for params in (image_converter_node.PARAMS, obstacle_scan_node.PARAMS):
         assert [spec.name for spec in params].count('image_rectified') == 1
-
-
-def test_the_fallback_mount_has_height_pitch_and_forward_offset():
-    class Config:
-        camera_height, camera_pitch_deg, camera_x = 0.3, 20.0, 0.05
-    mount = fallback_mount(Config)
-    assert mount.translation_m == (0.05, 0.0, 0.3)
-    pose = report.fallback_pose(0.3, 20.0, 0.05)
-    assert pose.position == pytest.approx((0.05, 0.0, 0.3))
-    assert math.degrees(bearing_rad(pose, intrinsics_from_camera_info(
-        320, 240, K, [], P, ''), 161.0, 118.0)) == pytest.approx(0.0, abs=1e-9)
-    Config.camera_height = 0.0
-    assert fallback_mount(Config) is None and report.fallback_pose(0.0, 20.0) is None

@@ -1,10 +1,11 @@
 """The one camera-pose rule (can_seeker.ros.camera_pose): refresh by the node's clock, keep the
-last TF pose when a refresh fails, the fallback only until TF gave a pose."""
+last TF pose when a refresh fails; before TF gave a pose none, with an error naming the missing
+transform and how to publish it (an offline tool's fallback pose instead)."""
 import tf2_ros
 from geometry_msgs.msg import Transform
 
 from can_seeker.camera_geometry import camera_pose_from_transform
-from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.camera_pose import PUBLISH_HINT, CameraPoseSource
 
 FALLBACK = camera_pose_from_transform((0.1, 0.0, 0.2), (0.0, 0.0, 0.0, 1.0))
 
@@ -61,11 +62,20 @@ def test_fallback_until_tf_gives_a_pose_then_the_last_tf_pose_is_kept():
     tf.up = False
     assert source.pose('camera', 5.0) is pose
     assert source.age_s('camera', 5.0) == 4.9
-    assert 'mount parameters' in warnings[0] and 'keeping the pose' in warnings[-1]
+    assert 'given camera mount' in warnings[0] and 'keeping the pose' in warnings[-1]
 
 
-def test_without_a_fallback_there_is_no_pose_until_tf_has_one():
+def test_without_a_fallback_there_is_no_pose_until_tf_has_one_and_an_error_says_so():
     tf = FakeTF()
     tf.up = False
-    source = CameraPoseSource(tf, 'base_link')
-    assert source.pose('base_scan', 0.0) is None
+    errors, warnings = [], []
+    source = CameraPoseSource(tf, 'robot1/base_link', warn=warnings.append, error=errors.append,
+                              without='no scan')
+    assert source.pose('/robot1/camera_optical_frame', 0.0) is None
+    assert warnings == [] and len(errors) == 1
+    assert errors[0].startswith('no TF robot1/base_link <- robot1/camera_optical_frame (')
+    assert 'no scan' in errors[0] and errors[0].endswith(PUBLISH_HINT)
+    assert 'robot_state.launch' in PUBLISH_HINT and 'static_transform_publisher' in PUBLISH_HINT
+    tf.up = True
+    assert source.pose('robot1/camera_optical_frame', 0.1).height_m == 0.25
+    assert len(errors) == 1

@@ -72,9 +72,10 @@ def range_errors(texture):
     """Relative range errors of the detector's floor-ray range to the can's near surface at
     0.3-3 m and three bearings, rendered with TinyRenderer (None where the can was missed)."""
     from can_seeker.vision.detector import RedCanDetector
-    from can_seeker.vision.report import CanModel, can_report, fallback_pose
+    from can_seeker.camera_geometry import camera_pose_from_mount
+    from can_seeker.vision.report import CanModel, can_report
     camera = CameraSpec(320, 240, 45.0, CameraMount(0.25, 25.0))
-    pose, detector = fallback_pose(0.25, 25.0), RedCanDetector()
+    pose, detector = camera_pose_from_mount(camera.mount), RedCanDetector()
     errors = []
     with World(URDF, camera, renderer='tiny', can_texture=texture) as world:
         for range_m in (0.3, 0.5, 0.8, 1.2, 1.8, 2.4, 3.0):
@@ -91,7 +92,7 @@ def range_errors(texture):
 
 def test_the_detector_finds_and_ranges_the_textured_can_like_the_plain_one():
     """Found at 0.3-3 m; the textured can's red begins above its silver base (5 mm, which
-    ~can_colour_bottom accounts for), so compared with the plain can, red to the floor, its
+    CAN_COLOUR_BOTTOM_M accounts for), so compared with the plain can, red to the floor, its
     range reads longer by 1-3 % with the camera 0.25 m up, and within a pixel row (up to 4 % at
     3 m) of that beyond 0.8 m."""
     plain, textured = range_errors('plain'), range_errors('textured')
@@ -106,9 +107,10 @@ def reports_straight_ahead(height_m, pitch_deg, fov_deg, ranges_m):
     ``ranges_m`` (to its near surface from the camera), rendered with TinyRenderer at 320x240
     from a camera ``height_m`` up pitched ``pitch_deg`` down."""
     from can_seeker.vision.detector import RedCanDetector
-    from can_seeker.vision.report import CanModel, can_report, fallback_pose
+    from can_seeker.camera_geometry import camera_pose_from_mount
+    from can_seeker.vision.report import CanModel, can_report
     camera = CameraSpec(320, 240, fov_deg, CameraMount(height_m, pitch_deg))
-    pose, detector = fallback_pose(height_m, pitch_deg), RedCanDetector()
+    pose, detector = camera_pose_from_mount(camera.mount), RedCanDetector()
     with World(URDF, camera, renderer='tiny', can_texture='textured') as world:
         for range_m in ranges_m:
             world.place_can(0.12 + range_m + 0.033, 0.0)

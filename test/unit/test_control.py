@@ -72,6 +72,26 @@ def test_sighting_without_range_keeps_the_side():
     assert sighting.bearing_rad == pytest.approx(-0.3)
 
 
+def test_sighting_without_a_camera_pose_has_no_range_and_keeps_the_side():
+    """TF has no pose of the detection's camera: its range cannot be placed in base_link."""
+    sighting = sighting_from_detection(True, 1.0, -0.3, None, 0.165, 0.033, 0.9)
+    assert not sighting.has_range and math.isnan(sighting.gap_m)
+    assert sighting.bearing_rad == pytest.approx(-0.3) and sighting.confidence == 0.9
+
+
+def test_detections_without_a_camera_pose_never_place_the_can_or_drive():
+    controller = make_controller()
+    sighting = sighting_from_detection(True, 1.0, math.radians(-20.0), None, 0.165, 0.033)
+    now = 0.0
+    for _ in range(60):
+        controller.observe(sighting, now)
+        linear, angular = controller.command(now)
+        assert linear == 0.0 and angular <= 0.0
+        now += DT
+    assert controller.state is State.SEARCH and controller.can_xy is None
+    assert angular == pytest.approx(-DEFAULTS['search_angular'])
+
+
 @pytest.mark.parametrize('found, range_m, bearing', [
     (False, 1.0, 0.0), (True, 1.0, math.nan), (True, -0.2, 0.0), (True, math.inf, 0.0)])
 def test_no_sighting_from_empty_or_malformed_detection(found, range_m, bearing):

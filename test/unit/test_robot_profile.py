@@ -60,8 +60,17 @@ def test_node_sections_hold_only_parameters_the_nodes_declare(name):
                 for script, params in declared_node_params(ROOT)}
     data = raw(name)
     for node in ('image_converter', 'obstacle_scan', 'can_stopper'):
-        assert set(data[node]) <= declared[node], '%s: %s' % (name, set(data[node])
-                                                              - declared[node])
+        assert set(data.get(node, ())) <= declared[node], '%s: %s' % (
+            name, set(data.get(node, ())) - declared[node])
+
+
+@pytest.mark.parametrize('name', SHIPPED)
+def test_the_camera_mount_is_no_node_parameter_of_a_profile(name):
+    """The nodes take the mount from TF (robot_description from the profile): no node section
+    holds a copy that could disagree with it."""
+    data = raw(name)
+    for node in ('image_converter', 'obstacle_scan', 'can_stopper'):
+        assert not {'camera_height', 'camera_pitch_deg', 'camera_x'} & set(data.get(node, ()))
 
 
 def test_the_default_profile_is_the_built_in_robot():

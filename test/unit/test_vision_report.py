@@ -5,13 +5,16 @@ import math
 
 import pytest
 
-from can_seeker.camera_geometry import can_image_box, intrinsics_from_vertical_fov
+from can_seeker.camera_geometry import (camera_pose_from_mount, can_image_box,
+                                        intrinsics_from_vertical_fov)
+from can_seeker.camera_mount import CameraMount
 from can_seeker.vision.report import (PARAMS, CanModel, can_report, can_side_measures,
-                                     fallback_pose, geometry_score)
+                                     geometry_score)
 from can_seeker.vision.detector import DETECTOR_PARAMS, Blob
 
 INTRINSICS = intrinsics_from_vertical_fov(320, 240, 45.0)
 CAN = CanModel()
+POSE = camera_pose_from_mount(CameraMount(0.25, 25.0))
 # A can blob around the image centre, bottom at row 139, clear of every image edge.
 BLOB = Blob(159.5, 120.0, 300.0, x=150, y=100, width=20, height=40)
 
@@ -36,14 +39,8 @@ def test_generated_reconfigure_defaults_and_limits_come_from_the_declarations():
             assert generated[spec.name]['max'] == spec.maximum
 
 
-def test_zero_camera_height_means_unknown():
-    assert fallback_pose(0.0, 25.0) is None
-    pose = fallback_pose(0.3, 20.0)
-    assert pose.height_m == pytest.approx(0.3)
-
-
 def test_not_found_report_has_nan_geometry():
-    report = can_report((), 320, 240, fallback_pose(0.25, 25.0), INTRINSICS, CAN)
+    report = can_report((), 320, 240, POSE, INTRINSICS, CAN)
     assert not report.found
     assert (report.centroid_x, report.area, report.bbox) == (0.0, 0.0, (0, 0, 0, 0))
     assert (report.image_width, report.image_height) == (320, 240)
@@ -51,7 +48,7 @@ def test_not_found_report_has_nan_geometry():
 
 
 def test_found_report_uses_the_floor_ray():
-    report = can_report([BLOB], 320, 240, fallback_pose(0.25, 25.0), INTRINSICS, CAN)
+    report = can_report([BLOB], 320, 240, POSE, INTRINSICS, CAN)
     assert report.found and report.range_method == 'floor'
     assert report.bbox == (150, 100, 20, 40)
     # Bottom edge at row 139.5, 20 px below the centre row: the ray 25 + 3.94 deg down meets
@@ -63,7 +60,7 @@ def test_found_report_uses_the_floor_ray():
 
 
 @pytest.mark.parametrize('pose, intrinsics', [(None, INTRINSICS),
-                                              (fallback_pose(0.25, 25.0), None)])
+                                              (POSE, None)])
 def test_found_report_without_geometry_keeps_the_pixels(pose, intrinsics):
     report = can_report([BLOB], 320, 240, pose, intrinsics, CAN)
     assert report.found and report.centroid_x == 159.5 and report.area == 300.0
@@ -79,7 +76,7 @@ def test_not_found_has_zero_confidence():
 
 def can_blob_at(range_m, scale=1.0, pose=None, shape_score=1.0):
     """The blob a can at ``range_m`` straight ahead would make, its box scaled by ``scale``."""
-    pose = pose or fallback_pose(0.25, 25.0)
+    pose = pose or POSE
     width_px, height_px = can_image_box(pose, INTRINSICS, range_m, 0.0, 0.066, 0.122)
     # The near bottom row of a can at that range, found by the floor ray.
     bottom = min(range(11, 240), key=lambda row: abs(can_report(
@@ -92,7 +89,7 @@ def can_blob_at(range_m, scale=1.0, pose=None, shape_score=1.0):
 
 @pytest.mark.parametrize('range_m', [0.4, 1.0, 2.5])
 def test_a_blob_of_a_cans_size_at_its_range_is_confident(range_m):
-    report = can_report([can_blob_at(range_m)], 320, 240, fallback_pose(0.25, 25.0),
+    report = can_report([can_blob_at(range_m)], 320, 240, POSE,
                         INTRINSICS, CAN)
     assert report.range_m == pytest.approx(range_m, rel=0.05)
     assert report.confidence == 1.0
@@ -102,7 +99,7 @@ def test_a_blob_of_a_cans_size_at_its_range_is_confident(range_m):
                                                (0.55, 0.5), (0.3, 0.0)])
 def test_a_blob_too_big_or_too_small_for_its_range_is_not(scale, confidence):
     blob = can_blob_at(1.0, scale)
-    pose = fallback_pose(0.25, 25.0)
+    pose = POSE
     report = can_report([blob], 320, 240, pose, INTRINSICS, CAN)
     assert report.found
     assert report.confidence == pytest.approx(confidence, abs=0.12)
@@ -112,7 +109,7 @@ def test_size_is_not_checked_without_geometry_or_on_cut_sides():
     big = can_blob_at(1.0, 2.0)
     assert can_report([big], 320, 240, None, INTRINSICS, CAN).confidence == 1.0
     cut = dataclasses.replace(big, cut=('left', 'top'))
-    pose = fallback_pose(0.25, 25.0)
+    pose = POSE
     assert geometry_score(cut, pose, INTRINSICS, 1.0, 0.0, 'floor', CAN) == 1.0
     assert geometry_score(big, pose, INTRINSICS, 1.0, 0.0, 'width', CAN) == 1.0
     assert geometry_score(big, pose, INTRINSICS, 1.0, 0.0, 'floor', CAN) == 0.0
@@ -122,7 +119,7 @@ def test_the_most_can_like_blob_is_reported_not_the_largest():
     can = can_blob_at(1.0)
     poster = dataclasses.replace(can_blob_at(1.0, 1.0, shape_score=0.05), area=20 * can.area,
                                  centroid_x=40.0, x=10, width=60)
-    report = can_report([poster, can], 320, 240, fallback_pose(0.25, 25.0), INTRINSICS, CAN)
+    report = can_report([poster, can], 320, 240, POSE, INTRINSICS, CAN)
     assert report.chosen == 1 and report.centroid_x == can.centroid_x
     assert report.confidences[0] < 0.1 and report.confidence == 1.0
 
@@ -138,9 +135,10 @@ def test_the_red_side_of_a_can_seen_from_above_has_the_lid_cut_from_its_top():
     """Seen level at mid-height the red side is the whole silhouette: convex, filling its box
     but for the rims' curves. Seen from above and close, the lid's ellipse cuts into its top:
     neither convex nor filling its box; farther away the lid flattens and both come back."""
-    level = can_side_measures(fallback_pose(0.061, 0.0), INTRINSICS, 0.5, 0.0, CAN)
+    level = can_side_measures(camera_pose_from_mount(CameraMount(0.061, 0.0)), INTRINSICS, 0.5,
+                              0.0, CAN)
     assert level[0] > 0.97 and level[1] > 0.85
-    steep = fallback_pose(0.33, 34.6)
+    steep = camera_pose_from_mount(CameraMount(0.33, 34.6))
     near = can_side_measures(steep, INTRINSICS, 0.3, 0.0, CAN)
     far = can_side_measures(steep, INTRINSICS, 1.0, 0.0, CAN)
     assert near[0] < 0.9 and near[1] < 0.8

@@ -24,7 +24,6 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
-from can_seeker.camera_mount import FALLBACK_MOUNT_PARAMS
 from can_seeker.frames import BASE_FRAME, ODOM_FRAME
 from can_seeker.health import ERROR, OK, WARN, Health
 from can_seeker.params import Param
@@ -35,9 +34,6 @@ from can_seeker.control.reasons import Kind, Reason, reason
 from can_seeker.control.sighting import Sighting
 from can_seeker.control.supervisor import Event, State
 from can_seeker.control.twist_limits import ZERO
-
-FALLBACK_CAMERA_X = next(spec for spec in FALLBACK_MOUNT_PARAMS if spec.name == 'camera_x')
-"""The camera's fallback forward offset, declared once for every node (camera_mount)."""
 
 PARAMS = (
     Param('enabled', True, 'start armed: searching and driving; false starts IDLE (zero '
@@ -84,7 +80,6 @@ PARAMS = (
           safer='higher'),
     Param('safety_margin', 0.05, 'clearance the safety layer keeps from any sensed obstacle, '
           'beyond robot_radius (m)', 0.0, 1.0, safer='higher'),
-    FALLBACK_CAMERA_X,
     Param('wander_clearance', 0.5, 'WANDER turns away when less free travel than this lies '
           'ahead (m)', 0.05, 5.0),
 )

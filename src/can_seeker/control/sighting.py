@@ -56,18 +56,20 @@ def detection_shows_can(found: bool, confidence: float, min_confidence: float) -
 
 
 def sighting_from_detection(found: bool, range_m: float, bearing_rad: float,
-                            camera: Pose2D,
+                            camera: Optional[Pose2D],
                             robot_radius: float, can_radius: float,
                             confidence: float = 1.0) -> Optional[Sighting]:
     """The red object of one detection relative to base_link, or None when it shows none.
 
     A detection without a usable range still tells on which side the object is (the camera's
-    bearing has the same sign as base_link's for a camera on the robot's axis).
+    bearing has the same sign as base_link's for a camera on the robot's axis). So does one
+    whose ``camera`` floor pose is unknown (None: TF has no camera pose): its range cannot be
+    placed in base_link, so it has none, and its bearing is taken as base_link's.
     """
     if not found or detection_problem(found, range_m, bearing_rad) is not None:
         return None
-    heading = camera.yaw + bearing_rad
-    if not math.isfinite(range_m):
+    heading = bearing_rad if camera is None else camera.yaw + bearing_rad
+    if camera is None or not math.isfinite(range_m):
         return Sighting(math.nan, heading, confidence)
     centre_x = camera.x + (range_m + can_radius) * math.cos(heading)
     centre_y = camera.y + (range_m + can_radius) * math.sin(heading)

@@ -48,10 +48,10 @@ from can_seeker.control.scan_points import scan_rays
 from can_seeker.control.tick_guard import TickGuard
 from can_seeker.control.tuning import controller_settings
 from can_seeker.control.twist_limits import ZERO, require_finite
-from can_seeker.health import ERROR, OK, WARN, InputMonitor
+from can_seeker.health import ERROR, OK, WARN, Health, InputMonitor
 from can_seeker.msg import CanDetection
 from can_seeker.params import UnsafeParamError, read_params
-from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.camera_pose import PUBLISH_HINT, CameraPoseSource, missing_transform
 from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import (controller_markers, occupancy_grid, path_msg, twist,
@@ -82,9 +82,11 @@ class CanStopperNode:
         self.lock = threading.Lock()
         self.shutting_down = False
         self.tf = SensorTf(warn=lambda message: rospy.logwarn('can_stopper: %s' % message))
-        # Camera and scan sensors alike: no fallback here (the camera's is ~camera_x).
-        self.sensor_poses = CameraPoseSource.from_tf(self.tf, params.base_frame,
-                                                     name='can_stopper')
+        # Camera and scan sensors alike: their poses come from TF only.
+        self.sensor_poses = CameraPoseSource.from_tf(
+            self.tf, params.base_frame, name='can_stopper',
+            without='a detection in that frame gives the can\'s side, no range; a scan in it '
+                    'is dropped')
         self.cmd_pub = rospy.Publisher('cmd_vel', Twist, queue_size=1)
         self.stamped_cmd_pub = rospy.Publisher('cmd_vel_stamped', TwistStamped, queue_size=10)
         self.state_pub = rospy.Publisher('~state', String, queue_size=1, latch=True)
@@ -97,6 +99,7 @@ class CanStopperNode:
         self.view_s = -float('inf')
         self.odom_frame = params.odom_frame
         self.camera_pose_logged = set()
+        self.camera_pose_missing = ''
         self.intrinsics = None
         self.logged_view = None
         self.published_state = None
@@ -141,6 +144,7 @@ class CanStopperNode:
                              queue_size=input_queue, tcp_nodelay=True)
         self.diagnostics = NodeDiagnostics()
         self.diagnostics.add('control', self.control_health)
+        self.diagnostics.add('camera pose', self.camera_pose_health)
         for monitor in self.monitors.values():
             self.diagnostics.add_input(monitor)
         rospy.on_shutdown(self.on_shutdown)
@@ -169,6 +173,16 @@ class CanStopperNode:
         """The full pose (CameraPose: position, rotation) of a sensor frame in ~base_frame
         from TF, or None while TF does not have it."""
         return self.sensor_poses.pose(frame_id, rospy.get_time())
+
+    def camera_pose_health(self):
+        """ERROR while the newest detection of a red object had no camera pose in TF."""
+        missing = self.camera_pose_missing
+        if missing == '':
+            return Health(OK, 'no red object seen yet')
+        if missing is None:
+            return Health(OK, 'from TF')
+        return Health(ERROR, '%s: detections give the can\'s side, no range' % missing,
+                      (('hint', PUBLISH_HINT),))
 
     def on_camera_info(self, info):
         """The camera's intrinsics, for the floor footprint of each frame (:meth:`view_of`)."""
@@ -266,10 +280,13 @@ class CanStopperNode:
             self.answer_frames()
 
     def camera_pose(self, frame_id, pose):
-        """The floor pose of camera ``frame_id`` at ``pose`` (from TF) in ~base_frame, else
-        from ~camera_x."""
+        """The floor pose of camera ``frame_id`` at ``pose`` (from TF) in ~base_frame; None
+        without a pose (its detections give the can's side, no range). Kept for the 'camera
+        pose' diagnostics: None (from TF), else the missing transform ('' before any)."""
         if pose is None:
-            return Pose2D(self.params.camera_x, 0.0, 0.0)
+            self.camera_pose_missing = missing_transform(self.params.base_frame, frame_id)
+            return None
+        self.camera_pose_missing = None
         floor_pose = camera_floor_pose(pose)
         if frame_id not in self.camera_pose_logged:
             self.camera_pose_logged.add(frame_id)

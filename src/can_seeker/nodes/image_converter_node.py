@@ -7,9 +7,9 @@ buff_size: always the newest frame) and ``camera_info``; publishes ``~detection`
 images and camera_info, what became of the recent frames). Thresholds are tunable with
 dynamic_reconfigure.
 The camera pose for range and bearing comes from TF (``~base_frame`` <- image frame, which
-must be an optical frame), else from the fallback mount ``~camera_height``/``~camera_pitch_deg``/
-``~camera_x`` (:mod:`can_seeker.ros.camera_pose`); camera_info's D is undone on the pixels the
-geometry uses unless ``~image_rectified``.
+must be an optical frame; :mod:`can_seeker.ros.camera_pose`): until TF has it, detections
+have NaN range and bearing, and an error says which transform is missing; camera_info's D is
+undone on the pixels the geometry uses unless ``~image_rectified``.
 """
 import time
 
@@ -27,12 +27,12 @@ from can_seeker.health import ERROR, OK, WARN, Outcomes
 from can_seeker.msg import CanDetection
 from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import read_params
-from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.camera_pose import CameraPoseSource, missing_transform
 from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import detection_msg, image_msg
 from can_seeker.vision.report import PARAMS as REPORT_PARAMS
-from can_seeker.vision.report import WINDOW_WIDTH_PX, CanModel, can_report, fallback_pose
+from can_seeker.vision.report import WINDOW_WIDTH_PX, CanModel, can_report
 from can_seeker.ros.image_input import image_decoder, subscribe_images
 from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
                                             NoColourError)
@@ -44,14 +44,17 @@ PARAMS = REPORT_PARAMS + (IMAGE_TRANSPORT_PARAM,)
 ERROR_PERIOD_S = 5.0
 
 
-def frame_outcome(found, range_m, intrinsics, pose, frame_problem=None):
-    """(outcome, level) of a processed frame for the diagnostics."""
+def frame_outcome(found, range_m, intrinsics, pose, frame_problem=None, missing_pose=''):
+    """(outcome, level) of a processed frame for the diagnostics; ``missing_pose`` names the
+    transform TF lacks when ``pose`` is None for want of it."""
     if not found:
         return 'no red object', OK
     if pose is None and frame_problem:
         return 'red object, no range: the image frame is not an optical frame', ERROR
-    if intrinsics is None or pose is None:
-        return 'red object, no range: camera geometry unknown', WARN
+    if intrinsics is None:
+        return 'red object, no range: no usable camera_info', WARN
+    if pose is None:
+        return 'red object, no range: %s' % (missing_pose or 'camera pose unknown'), ERROR
     if np.isfinite(range_m):
         return 'red object with a range', OK
     return 'red object without a range', OK
@@ -76,15 +79,13 @@ class ImageConverterNode:
         for spec in DETECTOR_PARAMS:
             rospy.set_param('~' + spec.name, getattr(self.config, spec.name))
         self.detector = RedCanDetector(DetectorSettings.from_values(self.config))
-        self.can_model = CanModel.from_values(self.config)
+        self.can_model = CanModel()
         self.intrinsics = None
         self.annotated_buffer = None
         self.tf = SensorTf(warn=lambda message: rospy.logwarn('image_converter: %s' % message))
         self.camera_poses = CameraPoseSource.from_tf(
-            self.tf, self.config.base_frame,
-            fallback_pose(self.config.camera_height, self.config.camera_pitch_deg,
-                          self.config.camera_x),
-            'image_converter', require_optical=True)
+            self.tf, self.config.base_frame, 'image_converter', require_optical=True,
+            without='range and bearing are NaN')
         self.display = self._make_display(self.config.show)
         self.decode_errors = KindThrottle(ERROR_PERIOD_S)
         self.detection_pub = rospy.Publisher('~detection', CanDetection, queue_size=10)
@@ -170,9 +171,10 @@ class ImageConverterNode:
         report = can_report(result.candidates, image.width, image.height, pose, intrinsics,
                             self.can_model)
         self.publish_detection(msg, report)
-        self.outcomes.add(*frame_outcome(result.found, report.range_m, intrinsics, pose,
-                                         self.camera_poses.problems.get(
-                                             msg.header.frame_id.lstrip('/'))))
+        self.outcomes.add(*frame_outcome(
+            result.found, report.range_m, intrinsics, pose,
+            self.camera_poses.problems.get(msg.header.frame_id.lstrip('/')),
+            missing_transform(self.config.base_frame, msg.header.frame_id)))
         if want_mask:
             self.mask_pub.publish(image_msg(msg.header, result.mask, 'mono8'))
         if publish_edges:

@@ -6,8 +6,8 @@ buff_size: always the newest frame) and ``camera_info``; publishes ``camera_scan
 with the image's stamp) and, only while subscribed, ``~annotated`` (bgr8) and ``~obstacles``
 (mono8), and /diagnostics (the rates and ages of the images and camera_info, whether the
 recent frames gave a scan and if not why). The camera pose comes from TF (``~scan_frame`` <-
-image frame, which must be an optical frame), else from the fallback mount ``~camera_height``/
-``~camera_pitch_deg``/``~camera_x`` (:mod:`can_seeker.ros.camera_pose`); camera_info's D is
+image frame, which must be an optical frame; :mod:`can_seeker.ros.camera_pose`): until TF has
+it there is no scan, and an error says which transform is missing; camera_info's D is
 undone on the pixels the scan's geometry uses unless ``~image_rectified``. ``~reset``
 (std_srvs/Empty) forgets the learned floor model, so a new trial does not inherit the last
 one's, and skips the frames stamped at or before the reset that are still on their way (they
@@ -23,11 +23,10 @@ from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import CAMERA_INFO_PARAMS, intrinsics_from_camera_info
-from can_seeker.camera_mount import FALLBACK_MOUNT_PARAMS
 from can_seeker.health import ERROR, OK, Outcomes
 from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import read_params
-from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.camera_pose import CameraPoseSource, missing_transform
 from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import image_msg, laser_scan
@@ -37,10 +36,8 @@ from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 from can_seeker.ros.image_input import image_decoder, subscribe_images
 from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
                                             NoColourError)
-from can_seeker.vision.report import fallback_pose
 
-PARAMS = (FLOOR_PARAMS + SCAN_PARAMS + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_PARAMS
-          + (IMAGE_TRANSPORT_PARAM,))
+PARAMS = FLOOR_PARAMS + SCAN_PARAMS + CAMERA_INFO_PARAMS + (IMAGE_TRANSPORT_PARAM,)
 
 ERROR_PERIOD_S = 5.0
 
@@ -58,10 +55,8 @@ class ObstacleScanNode:
         self.reset_s = -math.inf
         self.tf = SensorTf(warn=lambda message: rospy.logwarn('obstacle_scan: %s' % message))
         self.camera_poses = CameraPoseSource.from_tf(
-            self.tf, self.config.scan_frame,
-            fallback_pose(self.config.camera_height, self.config.camera_pitch_deg,
-                          self.config.camera_x),
-            'obstacle_scan', require_optical=True)
+            self.tf, self.config.scan_frame, 'obstacle_scan', require_optical=True,
+            without='no scan')
         self.scan_pub = rospy.Publisher('camera_scan', LaserScan, queue_size=1)
         self.annotated_pub = rospy.Publisher('~annotated', Image, queue_size=1)
         self.obstacles_pub = rospy.Publisher('~obstacles', Image, queue_size=1)
@@ -134,7 +129,8 @@ class ObstacleScanNode:
         elif pose is None and msg.header.frame_id.lstrip('/') in self.camera_poses.problems:
             self.outcomes.add('no scan: the image frame is not an optical frame', ERROR)
         elif pose is None:
-            self.outcomes.add('no scan: camera pose unknown', ERROR)
+            self.outcomes.add('no scan: %s' % missing_transform(self.config.scan_frame,
+                                                                msg.header.frame_id), ERROR)
         else:
             self.outcomes.add('no scan: no floor in view within ~max_range', ERROR)
             rospy.logwarn_throttle(ERROR_PERIOD_S, 'obstacle_scan: the camera sees no floor '

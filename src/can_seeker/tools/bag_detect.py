@@ -5,8 +5,9 @@ to ``bag_detect/<bag name>.csv`` in the workspace's or the ROS home, see
 :mod:`can_seeker.output_paths`) and optionally an MP4 of the annotated images. With
 ``--scan-csv`` it also runs obstacle_scan's camera scan on every frame (one CSV row of
 LaserScan ranges per frame, the obstacles drawn in the video), so the camera scan of a room can
-be seen before the robot drives. Camera pose from the bag's TF (base frame <- image frame), else
-from the camera mount parameters, exactly as the node does. The image topic may
+be seen before the robot drives. Camera pose from the bag's TF (base frame <- image frame), by
+the nodes' rule; for a bag recorded without the mount's TF, ``--camera-height`` (with
+``--camera-pitch-deg`` and ``--camera-x``) gives the mount until the bag's TF has one. The image topic may
 hold sensor_msgs/Image or sensor_msgs/CompressedImage (jpeg, png); the decoder follows the
 topic's recorded type.
 """
@@ -23,10 +24,11 @@ import rospy
 import tf2_ros
 from tqdm import tqdm
 
-from can_seeker.camera_geometry import intrinsics_from_camera_info
+from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_camera_info
+from can_seeker.camera_mount import CAMERA_FORWARD_M, CameraMount
 from can_seeker.output_paths import default_output_dir
 from can_seeker.vision import report
-from can_seeker.vision.report import CanModel, can_report, fallback_pose
+from can_seeker.vision.report import CanModel, can_report
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
 from can_seeker.ros.camera_pose import CameraPoseSource
 from can_seeker.params import read_params
@@ -53,6 +55,16 @@ def parse_args(argv):
     parser.add_argument('--scan-csv', metavar='FILE',
                         help='also run obstacle_scan\'s camera scan: one row of LaserScan '
                              'ranges per frame (columns: stamp, then each bin\'s angle in rad)')
+    parser.add_argument('--camera-height', type=float, metavar='M',
+                        help='height of camera_link above the floor (m), for frames the bag\'s TF '
+                             'gives no camera pose (default: none, those frames get no range '
+                             'or scan)')
+    parser.add_argument('--camera-pitch-deg', type=float, default=25.0, metavar='DEG',
+                        help='with --camera-height: camera pitch below the horizon (deg, '
+                             'positive down; default: %(default)s)')
+    parser.add_argument('--camera-x', type=float, default=CAMERA_FORWARD_M, metavar='M',
+                        help='with --camera-height: distance of camera_link ahead of the base '
+                             'frame (m; default: %(default)s)')
     parser.add_argument('--param', action='append', default=[], metavar='NAME=VALUE',
                         help='override an image_converter or obstacle_scan parameter '
                              '(repeatable), e.g. green_max_ratio=0.4 or floor_model=dark')
@@ -111,12 +123,12 @@ class BagDetector:
         self.image_topic = image_topic
         self.decode = MESSAGE_DECODERS[image_type]
         self.detector = RedCanDetector(DetectorSettings.from_values(config))
-        self.can_model = CanModel.from_values(config)
+        self.can_model = CanModel()
         self.tf = tf2_ros.BufferCore(rospy.Duration(3600.0))
+        mount_pose = (None if args.camera_height is None else camera_pose_from_mount(
+            CameraMount(args.camera_height, args.camera_pitch_deg, args.camera_x)))
         self.camera_poses = CameraPoseSource.from_buffer_core(
-            self.tf, config.base_frame,
-            fallback_pose(config.camera_height, config.camera_pitch_deg, config.camera_x),
-            require_optical=True)
+            self.tf, config.base_frame, mount_pose, require_optical=True)
         self.image_rectified = config.image_rectified
         self.intrinsics = None
         self.video = None
@@ -131,8 +143,7 @@ class BagDetector:
                                          config.exclude_can, robot_radius_m=config.robot_radius,
                                          robot_height_m=config.robot_height)
             self.scan_poses = CameraPoseSource.from_buffer_core(
-                self.tf, config.scan_frame,
-                fallback_pose(config.camera_height, config.camera_pitch_deg))
+                self.tf, config.scan_frame, mount_pose)
 
     def camera_pose(self, msg):
         """The camera pose by the nodes' rule, on the bag's clock (the image stamps)."""

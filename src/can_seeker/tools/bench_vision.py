@@ -22,10 +22,13 @@ import time
 import cv2
 import numpy as np
 import rospy
+import tf2_ros
 from sensor_msgs.msg import CameraInfo, Image
 
-from can_seeker.camera_geometry import intrinsics_from_vertical_fov
-from can_seeker.vision.report import CanModel, can_report, fallback_pose
+from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_vertical_fov
+from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
+from can_seeker.ros.messages import transform_stamped
+from can_seeker.vision.report import CanModel, can_report
 from can_seeker.msg import CanDetection
 from can_seeker.vision.camera_scan import CameraScanner
 from can_seeker.vision.detector import RedCanDetector
@@ -34,6 +37,9 @@ from can_seeker.vision.floor import FloorSettings
 SIZES = ((320, 240), (640, 480), (1280, 720))
 TUTORIAL_RED_LOW = (0, 120, 70)
 TUTORIAL_RED_HIGH = (10, 255, 255)
+
+MOUNT = CameraMount(0.25, 25.0)
+"""The camera mount of every part: the simulated robot's."""
 
 
 def floor_scene(width, height, seed=0):
@@ -96,7 +102,7 @@ def bench_frames(frames):
         cv2.setNumThreads(threads)
         for width, height in SIZES:
             image = floor_scene(width, height)
-            pipeline = our_pipeline(RedCanDetector(), fallback_pose(0.25, 25.0),
+            pipeline = our_pipeline(RedCanDetector(), camera_pose_from_mount(MOUNT),
                                     intrinsics_from_vertical_fov(width, height, 45.0))
             assert pipeline(image).found, 'the benchmark scene must contain a visible can'
             ours = time_per_frame_ms(pipeline, image, frames)
@@ -132,7 +138,7 @@ def bench_obstacle_scan(frames):
     print('| size | adaptive floor model | adaptive, max_colour_shift 0.3 | dark threshold | '
           'tutorial obstacle callback |')
     print('|---|---|---|---|---|')
-    pose = fallback_pose(0.25, 25.0)
+    pose = camera_pose_from_mount(MOUNT)
     for width, height in SIZES:
         image = obstacle_scene(width, height)
         intrinsics = intrinsics_from_vertical_fov(width, height, 45.0)
@@ -163,9 +169,16 @@ def latency_stats(samples_s):
 
 
 class LatencyProbe:
-    """Publishes frames to a running image_converter and times their detections."""
+    """Publishes frames (and the camera mount, MOUNT, on /tf_static) to a running
+    image_converter and times their detections."""
 
     def __init__(self, width, height):
+        self.tf = tf2_ros.StaticTransformBroadcaster()
+        self.tf.sendTransform([
+            transform_stamped(rospy.Time(0), 'base_link', 'camera_link', MOUNT.translation_m,
+                              MOUNT.rotation_xyzw),
+            transform_stamped(rospy.Time(0), 'camera_link', 'camera_optical_frame',
+                              (0.0, 0.0, 0.0), OPTICAL_IN_CAMERA_LINK_XYZW)])
         intrinsics = intrinsics_from_vertical_fov(width, height, 45.0)
         image = floor_scene(width, height)
         self.frame = Image(height=height, width=width, encoding='bgr8', step=width * 3,

@@ -25,10 +25,9 @@ from typing import Optional, Sequence, Tuple
 import cv2
 import numpy as np
 
-from can_seeker.camera_geometry import (CAMERA_INFO_PARAMS, CameraPose, camera_pose_from_mount,
-                                        can_image_box, can_range_bearing, can_rims_px)
-from can_seeker.camera_mount import CAMERA_FORWARD_M, FALLBACK_MOUNT_PARAMS, CameraMount
-from can_seeker.can_size import CAN_DIAMETER_M, CAN_HEIGHT_M
+from can_seeker.camera_geometry import (CAMERA_INFO_PARAMS, can_image_box, can_range_bearing,
+                                        can_rims_px)
+from can_seeker.can_size import CAN_COLOUR_BOTTOM_M, CAN_DIAMETER_M, CAN_HEIGHT_M
 from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param
 from can_seeker.vision.detector import (DETECTOR_PARAMS, Blob, convexity_score,
@@ -45,40 +44,22 @@ blob's outline and a tilted camera each err by a few per cent."""
 WINDOW_WIDTH_PX = 640
 """Width of each ~show window: images are scaled to it, keeping their aspect ratio."""
 
-PARAMS = DETECTOR_PARAMS + (BASE_FRAME,) + FALLBACK_MOUNT_PARAMS + CAMERA_INFO_PARAMS + (
-    Param('can_colour_bottom', 0.005, 'height above the floor where the can\'s colour begins '
-          '(a soda can\'s unprinted base, about 5 mm): the floor range\'s ray through the '
-          'blob\'s lower edge meets the can there; 0 for a can coloured to the floor (m)',
-          0.0, 0.5),
+PARAMS = DETECTOR_PARAMS + (BASE_FRAME,) + CAMERA_INFO_PARAMS + (
     Param('show', False, 'open OpenCV windows (origin, result, edges); only when the display '
           'can be opened, headless with a warning otherwise'),
 )
 
 
-def fallback_pose(camera_height_m: float, camera_pitch_deg: float,
-                  camera_x_m: float = CAMERA_FORWARD_M) -> Optional[CameraPose]:
-    """Camera pose from the fallback mount (FALLBACK_MOUNT_PARAMS), or None when the height is
-    0 (unknown)."""
-    if camera_height_m <= 0.0:
-        return None
-    return camera_pose_from_mount(CameraMount(camera_height_m, camera_pitch_deg, camera_x_m))
-
-
 @dataclass(frozen=True)
 class CanModel:
     """Size of the can (m), the relative size error the geometry check tolerates (1) and the
-    height where its colour begins (m)."""
+    height where its colour begins (m); the nodes' can is the defaults
+    (:mod:`can_seeker.can_size`)."""
 
     diameter_m: float = CAN_DIAMETER_M
     height_m: float = CAN_HEIGHT_M
     size_tolerance: float = SIZE_TOLERANCE
-    colour_bottom_m: float = 0.005
-
-    @classmethod
-    def from_values(cls, values):
-        """From an object with can_colour_bottom (the node's PARAMS); the can's size and the
-        tolerance are the constants."""
-        return cls(colour_bottom_m=values.can_colour_bottom)
+    colour_bottom_m: float = CAN_COLOUR_BOTTOM_M
 
 
 @dataclass(frozen=True)
