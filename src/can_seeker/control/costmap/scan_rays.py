@@ -36,8 +36,9 @@ class ScanRays:
         self.ends_um = lattice(self.ends_xy)
         offsets = self.ends_um - self.origin_um
         self.squared = (offsets * offsets).sum(axis=1)
-        x_um, y_um, self.fractions = ray_samples(self.origin_um, offsets, self.squared,
-                                                 grid.fine_um // RAY_STEPS_PER_CELL)
+        # sampled from the grid's corner: integers below 2^53 add exactly in any order
+        x_um, y_um, self.fractions = ray_samples(self.origin_um - grid.origin_um, offsets,
+                                                 self.squared, grid.fine_um // RAY_STEPS_PER_CELL)
         self.fine_cells, self.coarse_cells = self._sample_cells(x_um, y_um)
         self.coarse_fractions = self.fractions[::OBSERVED_SUBDIVISION]
         # A sample at f lies no farther than r from the origin where f <= isqrt(r^2).
@@ -50,14 +51,13 @@ class ScanRays:
 
     def _sample_cells(self, x_um: np.ndarray, y_um: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """(fine, coarse) flat indices of the cells holding the fine samples at ``x_um``,
-        ``y_um`` (N x M each, whole um; overwritten) and of every
+        ``y_um`` (N x M each, whole um from the grid's corner; overwritten) and of every
         :data:`OBSERVED_SUBDIVISION`-th of them (the coarse samples), -1 outside the grid (see
         :meth:`GridGeometry.lattice_index`; a fine cell's indices divided by the subdivision
         are its coarse cell's)."""
         fine_cells, grid = self.grid.fine_cells, self.grid
         fine = []
         for values in (x_um, y_um):
-            np.subtract(values, grid.origin_um, out=values)
             np.divide(values, grid.fine_um, out=values)
             # the floor written straight as integers: one pass, no float copy to convert
             index = np.empty(values.shape, np.int64)
