@@ -160,11 +160,11 @@ class PySpy:
         self.folder = folder
         self.processes = processes
         self.threads_before = self._thread_times()
+        os.makedirs(folder, exist_ok=True)
         executable = shutil.which('py-spy')
         if executable is None:
             print('bench_loop: py-spy is not on PATH; no profiles', file=sys.stderr)
             return
-        os.makedirs(folder, exist_ok=True)
         for name, pid in processes.items():
             if pid == os.getpid():
                 continue

@@ -36,8 +36,9 @@ class ScanRays:
         self.ends_um = lattice(self.ends_xy)
         offsets = self.ends_um - self.origin_um
         self.squared = (offsets * offsets).sum(axis=1)
-        x_um, y_um, self.fractions = ray_samples(self.origin_um, offsets, self.squared,
-                                                 grid.fine_um // RAY_STEPS_PER_CELL)
+        # sampled from the grid's corner: integers below 2^53 add exactly in any order
+        x_um, y_um, self.fractions = ray_samples(self.origin_um - grid.origin_um, offsets,
+                                                 self.squared, grid.fine_um // RAY_STEPS_PER_CELL)
         self.fine_cells, self.coarse_cells = self._sample_cells(x_um, y_um)
         self.coarse_fractions = self.fractions[::OBSERVED_SUBDIVISION]
         # A sample at f lies no farther than r from the origin where f <= isqrt(r^2).
@@ -50,28 +51,32 @@ class ScanRays:
 
     def _sample_cells(self, x_um: np.ndarray, y_um: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """(fine, coarse) flat indices of the cells holding the fine samples at ``x_um``,
-        ``y_um`` (N x M each, whole um; overwritten) and of every
+        ``y_um`` (N x M each, whole um from the grid's corner; overwritten) and of every
         :data:`OBSERVED_SUBDIVISION`-th of them (the coarse samples), -1 outside the grid (see
         :meth:`GridGeometry.lattice_index`; a fine cell's indices divided by the subdivision
         are its coarse cell's)."""
         fine_cells, grid = self.grid.fine_cells, self.grid
+        fine = []
         for values in (x_um, y_um):
-            np.subtract(values, grid.origin_um, out=values)
             np.divide(values, grid.fine_um, out=values)
-            np.floor(values, out=values)
-        fx, fy = x_um.astype(np.int64), y_um.astype(np.int64)
+            # the floor written straight as integers: one pass, no float copy to convert
+            index = np.empty(values.shape, np.int64)
+            np.floor(values, out=index, casting='unsafe')
+            fine.append(index)
+        fx, fy = fine
         # negative indices wrap to huge unsigned ones: one comparison per bound
-        inside = ((fx.view(np.uint64) < fine_cells) & (fy.view(np.uint64) < fine_cells))
+        outside = fx.view(np.uint64) >= fine_cells
+        outside |= fy.view(np.uint64) >= fine_cells
         step = OBSERVED_SUBDIVISION
-        # contiguous copies of the coarse samples: integer division is slow on strided views
-        coarse, coarse_y = fx[:, ::step].copy(), fy[:, ::step].copy()
-        coarse //= step
-        coarse_y //= step
+        # the coarse samples' indices written contiguously by the division itself
+        coarse = np.floor_divide(fx[:, ::step], step)
         coarse *= grid.cells
-        coarse += coarse_y
+        coarse += np.floor_divide(fy[:, ::step], step)
         fx *= fine_cells
         fx += fy
-        return np.where(inside, fx, -1), np.where(inside[:, ::step], coarse, -1)
+        fx[outside] = -1
+        coarse[outside[:, ::step]] = -1
+        return fx, coarse
 
     def marked(self, flat_cells: np.ndarray) -> np.ndarray:
         """Boolean coarse layer of the cells ``flat_cells`` (flat indices, -1: outside, none)."""
