@@ -8,9 +8,9 @@ import tf2_ros
 from geometry_msgs.msg import Twist, TwistStamped
 from std_msgs.msg import String
 
-from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
+from can_seeker.camera_mount import CameraMount
 from can_seeker.msg import CanDetection
-from can_seeker.ros.messages import transform_stamped
+from can_seeker.ros.messages import mount_transforms
 
 FRAME = 'camera_optical_frame'
 MOUNT = CameraMount(0.25, 25.0)
@@ -22,11 +22,8 @@ def broadcast_static_tf(*transforms):
     /tf_static, in one latched message (a node's broadcasters share it): can_stopper places
     a detection only through TF. Keep the returned broadcaster."""
     broadcaster = tf2_ros.StaticTransformBroadcaster()
-    broadcaster.sendTransform([
-        transform_stamped(rospy.Time(0), 'base_link', 'camera_link', MOUNT.translation_m,
-                          MOUNT.rotation_xyzw),
-        transform_stamped(rospy.Time(0), 'camera_link', FRAME, (0.0, 0.0, 0.0),
-                          OPTICAL_IN_CAMERA_LINK_XYZW)] + list(transforms))
+    broadcaster.sendTransform(mount_transforms(rospy.Time(0), MOUNT, optical_frame=FRAME)
+                              + list(transforms))
     return broadcaster
 
 

@@ -73,6 +73,22 @@ def test_odometry_and_transform_carry_their_frames():
     assert transform.transform.translation.z == 0.25
 
 
+def test_mount_transforms_chain_base_camera_and_optical_frames():
+    from can_seeker.camera_mount import CameraMount
+    mount = CameraMount(0.3, 20.0, 0.1)
+    base_camera, camera_optical = messages.mount_transforms(rospy.Time(2), mount, 'r/base',
+                                                            'r/cam', 'r/optical')
+    assert [(t.header.frame_id, t.child_frame_id) for t in (base_camera, camera_optical)] == [
+        ('r/base', 'r/cam'), ('r/cam', 'r/optical')]
+    assert base_camera.header.stamp == rospy.Time(2)
+    assert base_camera.transform.translation.x == 0.1
+    assert base_camera.transform.translation.z == 0.3
+    assert (base_camera.transform.rotation.y, base_camera.transform.rotation.w) == \
+        mount.rotation_xyzw[1::2]
+    rotation = camera_optical.transform.rotation
+    assert (rotation.x, rotation.y, rotation.z, rotation.w) == (-0.5, 0.5, -0.5, 0.5)
+
+
 def test_twist_stamped_keeps_the_command():
     stamped = messages.twist_stamped(messages.twist(0.3, -0.5), rospy.Time(4))
     assert (stamped.twist.linear.x, stamped.twist.angular.z) == (0.3, -0.5)

@@ -174,7 +174,8 @@ class ImageConverterNode:
         self.outcomes.add(*frame_outcome(
             result.found, report.range_m, intrinsics, pose,
             self.camera_poses.problems.get(msg.header.frame_id.lstrip('/')),
-            missing_transform(self.config.base_frame, msg.header.frame_id)))
+            '' if pose is not None else missing_transform(self.config.base_frame,
+                                                          msg.header.frame_id)))
         if want_mask:
             self.mask_pub.publish(image_msg(msg.header, result.mask, 'mono8'))
         if publish_edges:

@@ -36,13 +36,12 @@ from tf2_msgs.msg import TFMessage
 from can_seeker.msg import Contacts
 from can_seeker.sim.call_queue import CallQueue
 from can_seeker.sim.lockstep import LockstepGate, header_stamp_s
-from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 from can_seeker.gui.display_check import X11_PROBE, display_problem
 from can_seeker.health import WARN, InputMonitor
 from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import parse_topics, read_params, unread_health, unread_params
 from can_seeker.ros.diagnostics import NodeDiagnostics
-from can_seeker.ros.messages import camera_info, odometry, transform_stamped
+from can_seeker.ros.messages import camera_info, mount_transforms, odometry, transform_stamped
 from can_seeker.ros.paths import robots_dir, urdf_path, worlds_dir
 from can_seeker.sim.simulation import (PARAMS, Simulation, camera_spec, can_visible_from_start,
                                        checked_config, mount_for, scene_for)
@@ -281,14 +280,11 @@ class SimNode:
         (latched, all in one message: a later one replaces it)."""
         config, mount = self._config, self._sim.world.camera.mount
         stamp = rospy.Time.from_sec(self._sim.time_s)
-        self._static_broadcaster.sendTransform([
-            transform_stamped(stamp, config.base_frame, config.camera_frame,
-                              mount.translation_m, mount.rotation_xyzw),
-            transform_stamped(stamp, config.camera_frame, config.optical_frame, (0.0, 0.0, 0.0),
-                              OPTICAL_IN_CAMERA_LINK_XYZW),
-            transform_stamped(stamp, config.base_frame, config.lidar_frame,
-                              (0.0, 0.0, config.scan_height), (0.0, 0.0, 0.0, 1.0)),
-        ])
+        self._static_broadcaster.sendTransform(
+            mount_transforms(stamp, mount, config.base_frame, config.camera_frame,
+                             config.optical_frame)
+            + [transform_stamped(stamp, config.base_frame, config.lidar_frame,
+                                 (0.0, 0.0, config.scan_height), (0.0, 0.0, 0.0, 1.0))])
 
     def _on_new_world(self, request):
         scene = scene_for(self._config, request.seed, rospy.logwarn)

@@ -11,6 +11,7 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from visualization_msgs.msg import Marker, MarkerArray
 
 from can_seeker.msg import CanDetection
+from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW
 
 IMAGE_BUFF_SIZE = 2 ** 24
 """Image subscriber socket buffer (bytes): with queue_size=1 it keeps only the newest frame."""
@@ -103,6 +104,16 @@ def transform_stamped(stamp, parent, child, translation, rotation_xyzw) -> Trans
     (transform.transform.rotation.x, transform.transform.rotation.y,
      transform.transform.rotation.z, transform.transform.rotation.w) = rotation_xyzw
     return transform
+
+
+def mount_transforms(stamp, mount, base_frame='base_link', camera_frame='camera_link',
+                     optical_frame='camera_optical_frame'):
+    """The camera mount's TF (a :class:`can_seeker.camera_mount.CameraMount`): base_frame ->
+    camera_frame (REP-103) -> optical_frame (z forward, x right, y down)."""
+    return [transform_stamped(stamp, base_frame, camera_frame, mount.translation_m,
+                              mount.rotation_xyzw),
+            transform_stamped(stamp, camera_frame, optical_frame, (0.0, 0.0, 0.0),
+                              OPTICAL_IN_CAMERA_LINK_XYZW)]
 
 
 def camera_info(intrinsics, distortion, frame_id) -> CameraInfo:

@@ -25,13 +25,13 @@ import numpy as np
 import rosgraph
 import rospy
 import tf2_ros
-from geometry_msgs.msg import TransformStamped
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Empty
 
 from can_seeker.allocator import reuse_freed_memory
 from can_seeker.camera_geometry import intrinsics_from_vertical_fov
-from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
+from can_seeker.camera_mount import CameraMount
+from can_seeker.ros.messages import mount_transforms
 from can_seeker.evaluation.result_files import command_line, result_record, write_result
 from can_seeker.tools.bench_vision import floor_scene
 
@@ -93,22 +93,6 @@ class Counter:
     def on_message(self, _msg):
         with self.lock:
             self.count += 1
-
-
-def static_camera_tf():
-    mount = CameraMount(0.25, 25.0)
-    transforms = []
-    for parent, child, translation, rotation in (
-            ('base_link', 'camera_link', mount.translation_m, mount.rotation_xyzw),
-            ('camera_link', FRAME, (0.0, 0.0, 0.0), OPTICAL_IN_CAMERA_LINK_XYZW)):
-        msg = TransformStamped()
-        msg.header.frame_id, msg.child_frame_id = parent, child
-        msg.transform.translation.x, msg.transform.translation.y, \
-            msg.transform.translation.z = translation
-        msg.transform.rotation.x, msg.transform.rotation.y, msg.transform.rotation.z, \
-            msg.transform.rotation.w = rotation
-        transforms.append(msg)
-    return transforms
 
 
 def start_nodes(env, with_opencv_apps):
@@ -202,7 +186,8 @@ def main(argv=None):
     try:
         wait_for_master(60.0)
         rospy.init_node('bench_node', disable_signals=True)
-        tf2_ros.StaticTransformBroadcaster().sendTransform(static_camera_tf())
+        tf2_ros.StaticTransformBroadcaster().sendTransform(
+            mount_transforms(rospy.Time(0), CameraMount(0.25, 25.0), optical_frame=FRAME))
         width, height = 640, 480
         intrinsics = intrinsics_from_vertical_fov(width, height, 45.0)
         info = CameraInfo(width=width, height=height, K=intrinsics.K, P=intrinsics.P)

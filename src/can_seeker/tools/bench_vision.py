@@ -26,8 +26,8 @@ import tf2_ros
 from sensor_msgs.msg import CameraInfo, Image
 
 from can_seeker.camera_geometry import camera_pose_from_mount, intrinsics_from_vertical_fov
-from can_seeker.camera_mount import OPTICAL_IN_CAMERA_LINK_XYZW, CameraMount
-from can_seeker.ros.messages import transform_stamped
+from can_seeker.camera_mount import CameraMount
+from can_seeker.ros.messages import mount_transforms
 from can_seeker.vision.report import CanModel, can_report
 from can_seeker.msg import CanDetection
 from can_seeker.vision.camera_scan import CameraScanner
@@ -174,11 +174,7 @@ class LatencyProbe:
 
     def __init__(self, width, height):
         self.tf = tf2_ros.StaticTransformBroadcaster()
-        self.tf.sendTransform([
-            transform_stamped(rospy.Time(0), 'base_link', 'camera_link', MOUNT.translation_m,
-                              MOUNT.rotation_xyzw),
-            transform_stamped(rospy.Time(0), 'camera_link', 'camera_optical_frame',
-                              (0.0, 0.0, 0.0), OPTICAL_IN_CAMERA_LINK_XYZW)])
+        self.tf.sendTransform(mount_transforms(rospy.Time(0), MOUNT))
         intrinsics = intrinsics_from_vertical_fov(width, height, 45.0)
         image = floor_scene(width, height)
         self.frame = Image(height=height, width=width, encoding='bgr8', step=width * 3,
