@@ -24,7 +24,9 @@ GLUE_FOLDERS = ('nodes', 'tools', 'ros')
 
 def declared_groups(package_dir: pathlib.Path) -> List[Declaration]:
     """Every module-level ``*PARAMS`` tuple of the pure modules under ``package_dir`` (the
-    can_seeker source folder), as (``can_seeker.module.NAME``, its parameters), by name."""
+    can_seeker source folder) that declares a parameter of its own, as
+    (``can_seeker.module.NAME``, its parameters), by name: a node's full list made only of
+    smaller tuples (``vision.camera_scan.PARAMS``) declares none."""
     groups = []
     for path in sorted(package_dir.rglob('*.py')):
         relative = path.relative_to(package_dir)
@@ -38,7 +40,9 @@ def declared_groups(package_dir: pathlib.Path) -> List[Declaration]:
         module_name = '.'.join(('can_seeker',) + relative.with_suffix('').parts)
         module = importlib.import_module(module_name)
         groups += [('%s.%s' % (module_name, name), getattr(module, name)) for name in names]
-    return sorted(groups)
+    groups.sort()
+    return [(name, params) for name, params in groups
+            if any(declared_in(spec, groups) == name for spec in params)]
 
 
 def declared_in(spec: Param, groups: Sequence[Declaration]) -> str:

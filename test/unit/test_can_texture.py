@@ -5,9 +5,11 @@ import numpy as np
 import pytest
 
 from can_seeker.camera_mount import CameraMount
+from can_seeker.can_size import CAN_COLOUR_BOTTOM_M
 from can_seeker.sim.can_texture import (BASE_FRACTION, LETTERING_BOTTOM_FRACTION,
                                         LETTERING_TOP_FRACTION, LID_FRACTION, SILVER_RGB,
                                         label_image, mesh_obj)
+from can_seeker.sim.scene import CAN_HEIGHT_M, CAN_RADIUS_M
 from can_seeker.sim.world import CameraSpec, World
 
 URDF = str(pathlib.Path(__file__).resolve().parents[2] / 'urdf' / 'can_seeker_robot.urdf')
@@ -26,6 +28,27 @@ def test_label_has_silver_rims_a_lettering_band_and_a_red_body():
     assert red_columns.mean() > 0.2, 'letters need body colour between them'
     body = label[int(0.7 * 256):int(0.9 * 256)]
     assert np.all(body == RED)
+
+
+@pytest.mark.parametrize('height_px', [256, 100])
+def test_the_silver_base_ends_where_the_vision_takes_the_cans_colour_to_begin(height_px):
+    """The label's unprinted base, on the simulated can's height, is CAN_COLOUR_BOTTOM_M tall
+    within one label row: the floor ray through the red's lower edge meets the can there."""
+    label = label_image(RED, 64, height_px)
+    silver_rows = np.all(label == SILVER_RGB, axis=(1, 2))[::-1]
+    base_rows = int(np.argmin(silver_rows))
+    assert base_rows > 0 and np.all(label[-base_rows - 1] == RED)
+    row_m = CAN_HEIGHT_M / height_px
+    assert abs(base_rows * row_m - CAN_COLOUR_BOTTOM_M) <= row_m
+
+
+def test_the_mesh_base_maps_to_the_silver_base():
+    label = label_image(RED)
+    text = mesh_obj(CAN_RADIUS_M, CAN_HEIGHT_M)
+    base_v = [float(line.split()[2]) for line in text.splitlines()
+              if line.startswith('vt 0.5 ')][0]
+    row = int((1.0 - base_v) * label.shape[0])
+    assert np.all(label[row] == SILVER_RGB)
 
 
 def test_mesh_is_a_closed_cylinder_of_the_can():

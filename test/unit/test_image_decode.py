@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
-from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, MESSAGE_DECODERS,
+from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAMS, MESSAGE_DECODERS,
                                             DecodedImage, ImageDecodeError, NoColourError,
                                             decode_bgr, decode_compressed_bgr,
                                             decode_compressed_msg, decode_image_msg,
@@ -236,8 +236,9 @@ def test_transport_topics_follow_image_transport_naming():
     assert transport_topic('/camera/image_raw', 'raw') == '/camera/image_raw'
     assert transport_topic('/raspicam_node/image', 'compressed') == \
         '/raspicam_node/image/compressed'
-    assert IMAGE_TRANSPORT_PARAM.default == 'raw'
-    assert IMAGE_TRANSPORT_PARAM.choices == ('raw', 'compressed')
+    transport, = IMAGE_TRANSPORT_PARAMS
+    assert transport.default == 'raw'
+    assert transport.choices == ('raw', 'compressed')
 
 
 def test_decoded_image_keeps_the_header_and_takes_its_size_from_the_pixels():

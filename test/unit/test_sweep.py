@@ -3,8 +3,9 @@ import argparse
 
 import pytest
 
-from can_seeker.evaluation.sweep import (override_arg, parse_override, parse_sweep, plot_sweep,
-                                         setting_label, sweep_grid, sweep_table)
+from can_seeker.evaluation.sweep import (EVALUATED_NODES, override_arg, parse_override,
+                                         parse_sweep, plot_sweep, setting_label, sweep_grid,
+                                         sweep_table)
 
 
 def test_overrides_name_a_node_parameter():
@@ -30,16 +31,46 @@ def test_a_simulator_parameter_it_does_not_declare_is_refused_naming_the_one_mea
     with pytest.raises(ValueError, match='did you mean sim/cmd_timeout'):
         parse_sweep('sim/cmd_timeuot=0.5,1')
     assert parse_override('sim/realism/preset=harsh') == ('/sim/realism/preset', 'harsh')
-    assert parse_override('image_converter/anything=1') == ('/image_converter/anything', '1')
+
+
+@pytest.mark.parametrize('typo,meant', [
+    ('can_stopper/stop_distnce', 'can_stopper/stop_distance'),
+    ('image_converter/hue_mx', 'image_converter/hue_max'),
+    ('obstacle_scan/max_rnge', 'obstacle_scan/max_range'),
+    ('sim/realism/camera_latncy_s', 'sim/realism/camera_latency_s'),
+])
+def test_a_typo_in_any_evaluated_node_is_refused_naming_the_parameter_meant(typo, meant):
+    with pytest.raises(ValueError, match=r'^%s is not a parameter; did you mean %s\?$'
+                                         % (typo, meant)):
+        parse_override(typo + '=1')
+
+
+def test_a_node_the_closed_loop_does_not_start_is_refused_naming_those_it_does():
+    with pytest.raises(ValueError, match=r'can_stoper is not a node of the closed loop \(did you '
+                                         r'mean can_stopper\?\); its nodes are can_stopper, '
+                                         r'image_converter, obstacle_scan, sim$'):
+        parse_override('can_stoper/max_linear=0.2')
+    with pytest.raises(ValueError, match=r'twist_mux is not a node of the closed loop; its '
+                                         r'nodes are can_stopper, '):
+        parse_override('twist_mux/inputs=cmd_vel:1:0.5')
+
+
+@pytest.mark.parametrize('node', sorted(EVALUATED_NODES))
+def test_every_declared_parameter_of_an_evaluated_node_is_accepted(node):
+    params = EVALUATED_NODES[node]
+    assert params
+    for spec in params:
+        assert parse_override('%s/%s=1' % (node, spec.name)) == ('/%s/%s' % (node, spec.name),
+                                                                  '1')
 
 
 def test_a_grid_is_every_combination_first_sweep_slowest():
-    sweeps = [parse_sweep('sim/seed=1,2'), parse_sweep('can_stopper/b=x,y,z')]
+    sweeps = [parse_sweep('sim/seed=1,2'), parse_sweep('can_stopper/stop_distance=0.2,0.25,0.3')]
     grid = sweep_grid(sweeps)
     assert len(grid) == 6
-    assert grid[0] == {'/sim/seed': '1', '/can_stopper/b': 'x'}
-    assert grid[3] == {'/sim/seed': '2', '/can_stopper/b': 'x'}
-    assert setting_label(grid[5]) == 'seed=2 b=z'
+    assert grid[0] == {'/sim/seed': '1', '/can_stopper/stop_distance': '0.2'}
+    assert grid[3] == {'/sim/seed': '2', '/can_stopper/stop_distance': '0.2'}
+    assert setting_label(grid[5]) == 'seed=2 stop_distance=0.3'
     with pytest.raises(ValueError):
         parse_sweep('sim/seed=1,,2')
 

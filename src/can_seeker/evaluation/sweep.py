@@ -3,32 +3,42 @@ and the degradation table and plot of a sweep (success, true gap error, time to 
 contacts against each setting).
 """
 import argparse
+import difflib
 import itertools
 from typing import Dict, List, Sequence, Tuple
 
+from can_seeker.control.controller import PARAMS as CAN_STOPPER_PARAMS
 from can_seeker.params import unknown_param_message
 from can_seeker.sim.simulation import PARAMS as SIM_PARAMS
+from can_seeker.vision.camera_scan import PARAMS as OBSTACLE_SCAN_PARAMS
+from can_seeker.vision.report import PARAMS as IMAGE_CONVERTER_PARAMS
 
 Setting = Dict[str, str]
 """Parameter name (``/node/param``) -> value as roslaunch reads it."""
-CHECKED_NODES = {'sim': SIM_PARAMS}
-"""Nodes whose overrides must name a declared parameter: one the node does not read would be
-set and silently ignored, for a whole evaluation."""
+EVALUATED_NODES = {'can_stopper': CAN_STOPPER_PARAMS, 'image_converter': IMAGE_CONVERTER_PARAMS,
+                   'obstacle_scan': OBSTACLE_SCAN_PARAMS, 'sim': SIM_PARAMS}
+"""The nodes demo.launch starts for evaluate and demo, by node name, with the parameters each
+reads: an override must name a parameter one of them declares, as one set and never read
+would be silently ignored for a whole evaluation."""
 
 
 def parse_override(text: str) -> Tuple[str, str]:
     """``NODE/PARAM=VALUE`` -> ('/NODE/PARAM', 'VALUE'); ValueError if it is not of that form,
-    or names a parameter a node of CHECKED_NODES does not declare."""
+    or names a node not in EVALUATED_NODES or a parameter that node does not declare."""
     name, separator, value = text.partition('=')
     name = name.strip().strip('/')
     if not separator or '/' not in name or not value.strip() or not all(name.split('/')):
         raise ValueError('expected NODE/PARAM=VALUE (e.g. sim/realism/camera_read_noise=4), '
                          'got %r' % (text,))
     node, _, param = name.partition('/')
-    if node in CHECKED_NODES:
-        problem = unknown_param_message(param, CHECKED_NODES[node], node + '/')
-        if problem:
-            raise ValueError(problem)
+    if node not in EVALUATED_NODES:
+        likely = difflib.get_close_matches(node, EVALUATED_NODES, n=1, cutoff=0.6)
+        raise ValueError('%s/%s: %s is not a node of the closed loop%s; its nodes are %s' % (
+            node, param, node, ' (did you mean %s?)' % likely[0] if likely else '',
+            ', '.join(sorted(EVALUATED_NODES))))
+    problem = unknown_param_message(param, EVALUATED_NODES[node], node + '/')
+    if problem:
+        raise ValueError(problem)
     return '/' + name, value.strip()
 
 

@@ -31,16 +31,13 @@ from can_seeker.ros.camera_pose import CameraPoseSource, missing_transform
 from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import detection_msg, image_msg
-from can_seeker.vision.report import PARAMS as REPORT_PARAMS
-from can_seeker.vision.report import WINDOW_WIDTH_PX, CanModel, can_report
+from can_seeker.vision.report import PARAMS, WINDOW_WIDTH_PX, CanModel, can_report
 from can_seeker.ros.image_input import image_decoder, subscribe_images
-from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
-                                            NoColourError)
+from can_seeker.vision.image_decode import DecodedImage, ImageDecodeError, NoColourError
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
                                         draw_annotation)
 
-PARAMS = REPORT_PARAMS + (IMAGE_TRANSPORT_PARAM,)
 ERROR_PERIOD_S = 5.0
 
 

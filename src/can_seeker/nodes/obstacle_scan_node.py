@@ -22,7 +22,7 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan
 from std_srvs.srv import Empty, EmptyResponse
 
 from can_seeker.allocator import reuse_freed_memory
-from can_seeker.camera_geometry import CAMERA_INFO_PARAMS, intrinsics_from_camera_info
+from can_seeker.camera_geometry import intrinsics_from_camera_info
 from can_seeker.health import ERROR, OK, Outcomes
 from can_seeker.opencv_threads import use_one_opencv_thread
 from can_seeker.params import read_params
@@ -31,13 +31,10 @@ from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import image_msg, laser_scan
 from can_seeker.throttle import KindThrottle
-from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
-from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
+from can_seeker.vision.camera_scan import PARAMS, CameraScanner, draw_obstacles
+from can_seeker.vision.floor import FloorSettings
 from can_seeker.ros.image_input import image_decoder, subscribe_images
-from can_seeker.vision.image_decode import (IMAGE_TRANSPORT_PARAM, DecodedImage, ImageDecodeError,
-                                            NoColourError)
-
-PARAMS = FLOOR_PARAMS + SCAN_PARAMS + CAMERA_INFO_PARAMS + (IMAGE_TRANSPORT_PARAM,)
+from can_seeker.vision.image_decode import DecodedImage, ImageDecodeError, NoColourError
 
 ERROR_PERIOD_S = 5.0
 

@@ -33,8 +33,8 @@ REFRESH_S = 0.0
 WARN_PERIOD_S = 5.0
 PUBLISH_HINT = ('publish the camera mount in TF: roslaunch can_seeker robot_state.launch with the '
                 'robot\'s robot_description (robot_description.launch makes one from '
-                'camera_height and camera_pitch_deg, or robot:=PROFILE), or rosrun tf2_ros '
-                'static_transform_publisher')
+                'camera_height and camera_pitch_deg, or robot:=PROFILE), or a '
+                'static_transform_publisher where tf2_ros ships it (ROS from ros.org)')
 """How to give a node the transform it lacks."""
 
 

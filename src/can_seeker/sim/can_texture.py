@@ -13,12 +13,15 @@ from typing import Sequence
 import cv2
 import numpy as np
 
+from can_seeker.can_size import CAN_COLOUR_BOTTOM_M, CAN_HEIGHT_M
+
 LABEL_WIDTH_PX = 512
 LABEL_HEIGHT_PX = 256
 LID_FRACTION = 0.075
 """Silver neck and lid rim at the top (9 mm of a 122 mm can), as a fraction of the height."""
-BASE_FRACTION = 0.04
-"""Silver base at the bottom (5 mm of a 122 mm can), as a fraction of the height."""
+BASE_FRACTION = CAN_COLOUR_BOTTOM_M / CAN_HEIGHT_M
+"""Silver base at the bottom, below where the can's colour begins (CAN_COLOUR_BOTTOM_M, which
+the vision's range assumes), as a fraction of the height."""
 LETTERING_TOP_FRACTION = 0.3
 LETTERING_BOTTOM_FRACTION = 0.52
 """The lettering band, as fractions of the height from the top."""

@@ -16,13 +16,13 @@ import cv2
 import numpy as np
 
 from can_seeker.camera_geometry import CameraIntrinsics, CameraPose
+from can_seeker.can_size import CAN_DIAMETER_M, CAN_HEIGHT_M
 
 ROBOT_RADIUS_M = 0.165
 """Radius of the robot body about base_link (m)."""
 WHEEL_RADIUS_M = 0.036
 WHEEL_SEPARATION_M = 0.235
-CAN_HEIGHT_M = 0.122
-CAN_RADIUS_M = 0.033
+CAN_RADIUS_M = CAN_DIAMETER_M / 2.0
 CAN_MASS_KG = 0.37
 
 EMPTY_FLOOR_HALF_SIDE_M = 100.0

@@ -37,7 +37,7 @@ from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_an
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 
 DEFAULT_IMAGE_TOPIC = '/camera/image_raw'
-TOOL_PARAMS = report.PARAMS + FLOOR_PARAMS + SCAN_PARAMS
+TOOL_PARAMS = report.REPORT_PARAMS + FLOOR_PARAMS + SCAN_PARAMS
 CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
                'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method', 'confidence')
 

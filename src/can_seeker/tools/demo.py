@@ -71,8 +71,8 @@ def parse_args(argv):
                         '(sim/realism/preset)')
     parser.add_argument('--param', action='append', default=[], type=override_arg,
                         metavar='NODE/PARAM=VALUE',
-                        help='set a node parameter, e.g. sim/realism/camera_latency_s=0.1 '
-                        '(repeatable)')
+                        help='set a parameter of sim, image_converter, obstacle_scan or '
+                        'can_stopper, e.g. sim/realism/camera_latency_s=0.1 (repeatable)')
     return parser.parse_args(argv)
 
 

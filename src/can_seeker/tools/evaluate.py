@@ -98,8 +98,8 @@ def parse_args(argv):
                         '(sim/realism/preset)')
     parser.add_argument('--param', action='append', default=[], type=override_arg,
                         metavar='NODE/PARAM=VALUE',
-                        help='set a node parameter, e.g. sim/realism/camera_latency_s=0.1 '
-                        '(repeatable)')
+                        help='set a parameter of sim, image_converter, obstacle_scan or '
+                        'can_stopper, e.g. sim/realism/camera_latency_s=0.1 (repeatable)')
     parser.add_argument('--sweep', action='append', default=[], type=_sweep,
                         metavar='NODE/PARAM=V1,V2,...',
                         help='evaluate the same seeds at every value (repeatable: every '

@@ -23,11 +23,13 @@ import cv2
 import numpy as np
 
 from can_seeker import lattice
-from can_seeker.camera_geometry import CameraIntrinsics, CameraPose, normalized_points
+from can_seeker.camera_geometry import (CAMERA_INFO_PARAMS, CameraIntrinsics, CameraPose,
+                                        normalized_points)
 from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param, defaults
 from can_seeker.vision.detector import Blob, RedCanDetector
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorClassifier, FloorSettings
+from can_seeker.vision.image_decode import IMAGE_TRANSPORT_PARAMS
 from can_seeker.vision.report import CanModel, rank_candidates
 
 SCAN_PARAMS = (
@@ -47,6 +49,8 @@ SCAN_PARAMS = (
           'leaves out only the can it approaches, and avoids every other red object'),
 )
 SCAN_DEFAULTS = defaults(SCAN_PARAMS)
+PARAMS = FLOOR_PARAMS + SCAN_PARAMS + CAMERA_INFO_PARAMS + IMAGE_TRANSPORT_PARAMS
+"""Every parameter of the obstacle_scan node."""
 CAN_MARGIN = 0.25
 """The can's box is widened by this fraction of its height up and down (lid, base) and of its
 width sideways, so a can's silver rims and white band are not obstacles either."""

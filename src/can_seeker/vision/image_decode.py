@@ -159,10 +159,13 @@ TRANSPORT_MESSAGE_TYPES = {
     'raw': 'sensor_msgs/Image',
     'compressed': 'sensor_msgs/CompressedImage',
 }
-IMAGE_TRANSPORT_PARAM = Param(
-    'image_transport', 'raw', 'input images: raw (sensor_msgs/Image on image) or compressed '
-    '(sensor_msgs/CompressedImage, jpeg or png, on image/compressed, as raspicam_node and '
-    "image_transport's compressed plugin publish)", choices=tuple(TRANSPORT_MESSAGE_TYPES))
+IMAGE_TRANSPORT_PARAMS = (
+    Param('image_transport', 'raw', 'input images: raw (sensor_msgs/Image on image) or '
+          'compressed (sensor_msgs/CompressedImage, jpeg or png, on image/compressed, as '
+          "raspicam_node and image_transport's compressed plugin publish)",
+          choices=tuple(TRANSPORT_MESSAGE_TYPES)),
+)
+"""How an image node takes its images."""
 
 
 def transport_topic(image_topic: str, transport: str) -> str:

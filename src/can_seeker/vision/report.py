@@ -32,6 +32,7 @@ from can_seeker.frames import BASE_FRAME
 from can_seeker.params import Param
 from can_seeker.vision.detector import (DETECTOR_PARAMS, Blob, convexity_score,
                                         solidity_and_fill)
+from can_seeker.vision.image_decode import IMAGE_TRANSPORT_PARAMS
 
 SIZE_PREFERENCE_EXPONENT = 0.25
 """Candidates are ranked by confidence x (area / largest area) ** this: among equally
@@ -44,10 +45,13 @@ blob's outline and a tilted camera each err by a few per cent."""
 WINDOW_WIDTH_PX = 640
 """Width of each ~show window: images are scaled to it, keeping their aspect ratio."""
 
-PARAMS = DETECTOR_PARAMS + (BASE_FRAME,) + CAMERA_INFO_PARAMS + (
+REPORT_PARAMS = DETECTOR_PARAMS + (BASE_FRAME,) + CAMERA_INFO_PARAMS + (
     Param('show', False, 'open OpenCV windows (origin, result, edges); only when the display '
           'can be opened, headless with a warning otherwise'),
 )
+"""What the report of a frame and its windows take (the offline bag tool reads them too)."""
+PARAMS = REPORT_PARAMS + IMAGE_TRANSPORT_PARAMS
+"""Every parameter of the image_converter node."""
 
 
 @dataclass(frozen=True)
