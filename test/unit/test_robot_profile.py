@@ -162,6 +162,14 @@ def test_the_launch_line_has_the_drivers_topics():
     assert 'cmd_vel:=create1/cmd_vel' in line and 'base_frame:=base_footprint' in line
 
 
+def test_a_pi_camera_profile_reads_raspicam_nodes_image_topic():
+    """raspicam_node publishes raspicam_node/image/compressed, not image_raw/compressed."""
+    for name in ('turtlebot3_waffle_pi', 'turtlebot3_burger'):
+        line = launch_arguments(load(name))
+        assert 'camera:=raspicam_node' in line and 'image:=image ' in line
+        assert 'image_transport:=compressed' in line
+
+
 def test_a_footprint_profile_builds_its_box_wheels_casters_and_camera():
     profile = load('turtlebot3_waffle_pi')
     robot = ET.fromstring(robot_urdf(URDF.read_text(), camera_mount(profile), profile=profile))
