@@ -37,6 +37,7 @@ from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_an
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 
 DEFAULT_IMAGE_TOPIC = '/camera/image_raw'
+CAMERA_INFO_TYPE = 'sensor_msgs/CameraInfo'
 TOOL_PARAMS = report.PARAMS + FLOOR_PARAMS + SCAN_PARAMS
 CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
                'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method', 'confidence')
@@ -51,7 +52,10 @@ def parse_args(argv):
     parser.add_argument('--image-topic',
                         help='sensor_msgs/Image or CompressedImage topic (default: %s, else '
                              'the bag\'s only image topic)' % DEFAULT_IMAGE_TOPIC)
-    parser.add_argument('--camera-info-topic', default='/camera/camera_info')
+    parser.add_argument('--camera-info-topic',
+                        help='sensor_msgs/CameraInfo topic (default: camera_info beside the '
+                             'image topic, e.g. /raspicam_node/camera_info for '
+                             '/raspicam_node/image/compressed, else the bag\'s only one)')
     parser.add_argument('--scan-csv', metavar='FILE',
                         help='also run obstacle_scan\'s camera scan: one row of LaserScan '
                              'ranges per frame (columns: stamp, then each bin\'s angle in rad)')
@@ -103,6 +107,25 @@ def choose_image_topic(topic_types, requested):
         raise SystemExit('bag_detect: %s holds %s, expected %s; the bag\'s image topics: %s' % (
             topic, topic_types[topic], ' or '.join(sorted(MESSAGE_DECODERS)), listed))
     return topic, topic_types[topic]
+
+
+def choose_camera_info_topic(topic_types, image_topic, requested):
+    """The CameraInfo topic to read, given the bag's {topic: message type}, or None.
+
+    ``requested`` None means camera_info in the image topic's namespace (image_transport's
+    layout: ``/ns/image_raw`` and ``/ns/image/compressed`` have ``/ns/camera_info``), or else
+    the bag's only CameraInfo topic."""
+    if requested is not None:
+        return requested if topic_types.get(requested) == CAMERA_INFO_TYPE else None
+    base = image_topic.rstrip('/')
+    if topic_types.get(base) in MESSAGE_DECODERS and base.endswith('/compressed'):
+        base = base[:-len('/compressed')]
+    beside = base.rpartition('/')[0] + '/camera_info'
+    info_topics = sorted(topic for topic, msg_type in topic_types.items()
+                         if msg_type == CAMERA_INFO_TYPE)
+    if beside in info_topics:
+        return beside
+    return info_topics[0] if len(info_topics) == 1 else None
 
 
 def report_row(stamp_s, report):
@@ -227,10 +250,11 @@ class BagDetector:
         """Static TF and the first camera_info first, so the first frames get a range too."""
         for _, msg, _ in bag.read_messages(topics=['/tf_static']):
             self.add_transforms(msg, static=True)
-        for _, msg, _ in bag.read_messages(topics=[self.args.camera_info_topic]):
+        info_topics = [self.args.camera_info_topic] if self.args.camera_info_topic else []
+        for _, msg, _ in bag.read_messages(topics=info_topics) if info_topics else ():
             self.set_camera_info(msg)
             break
-        topics = [self.image_topic, self.args.camera_info_topic, '/tf']
+        topics = [self.image_topic, '/tf'] + info_topics
         image_count = bag.get_message_count(self.image_topic)
         duration_s = max(bag.get_end_time() - bag.get_start_time(), 1e-3)
         fps = max(1.0, min(120.0, image_count / duration_s))
@@ -265,6 +289,18 @@ def main(argv=None):
         if args.image_topic is None and image_topic != DEFAULT_IMAGE_TOPIC:
             print('bag_detect: no %s in the bag; reading its only image topic, %s (%s)' % (
                 DEFAULT_IMAGE_TOPIC, image_topic, image_type))
+        info_topic = choose_camera_info_topic(topic_types, image_topic, args.camera_info_topic)
+        if info_topic is None:
+            print('bag_detect: no camera_info %sin the bag (its CameraInfo topics: %s): every '
+                  'range and bearing is NaN and there is no camera scan; choose one with '
+                  '--camera-info-topic' % (
+                      args.camera_info_topic + ' ' if args.camera_info_topic else '',
+                      ', '.join(sorted(topic for topic, msg_type in topic_types.items()
+                                       if msg_type == CAMERA_INFO_TYPE)) or 'none'),
+                  file=sys.stderr)
+        elif args.camera_info_topic is None:
+            print('bag_detect: camera_info from %s' % info_topic)
+        args.camera_info_topic = info_topic
         detector = BagDetector(config, args, image_topic, image_type)
         with open(csv_path, 'w', newline='') as csv_file, \
                 open(args.scan_csv or os.devnull, 'w', newline='') as scan_file:
