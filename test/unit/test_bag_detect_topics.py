@@ -1,5 +1,8 @@
-"""bag_detect's choice of topics in a bag: the camera_info beside the image topic, as a camera
-driver lays them out (raspicam_node: image/compressed and camera_info in one namespace)."""
+"""bag_detect's choice of topics in a bag (the camera_info beside the image topic, as a camera
+driver lays them out: raspicam_node has image/compressed and camera_info in one namespace), and
+its report of frames the bag's TF gives no camera pose for."""
+import pathlib
+
 from can_seeker.tools.bag_detect import choose_camera_info_topic
 
 INFO = 'sensor_msgs/CameraInfo'
@@ -34,3 +37,17 @@ def test_a_requested_topic_is_taken_only_when_the_bag_holds_it():
     bag = {'/cam/image_raw': IMAGE, '/cam/camera_info': INFO}
     assert choose_camera_info_topic(bag, '/cam/image_raw', '/cam/camera_info') == '/cam/camera_info'
     assert choose_camera_info_topic(bag, '/cam/image_raw', '/camera/camera_info') is None
+
+
+def test_frames_without_a_camera_pose_are_reported_with_the_missing_transform(tmp_path, capsys):
+    """The bag's TF has base_link; a robot whose base is base_footprint is told what to set."""
+    from can_seeker.tools.bag_detect import main as bag_detect
+    bag = pathlib.Path(__file__).resolve().parents[1] / 'data' / 'sim_can_320x240.bag'
+    bag_detect([str(bag), '--csv', str(tmp_path / 'run.csv'), '--param',
+                'base_frame=base_footprint'])
+    err = capsys.readouterr().err
+    assert 'frames without a camera pose' in err
+    assert 'no TF base_footprint <- camera_optical_frame' in err
+    assert '--param base_frame=NAME' in err
+    bag_detect([str(bag), '--csv', str(tmp_path / 'run.csv')])
+    assert 'without a camera pose' not in capsys.readouterr().err

@@ -30,7 +30,7 @@ from can_seeker.output_paths import default_output_dir
 from can_seeker.vision import report
 from can_seeker.vision.report import CanModel, can_report
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
-from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.camera_pose import CameraPoseSource, missing_transform
 from can_seeker.params import read_params
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_annotation
@@ -157,6 +157,7 @@ class BagDetector:
         self.video = None
         self.video_size = None
         self.skipped = {}
+        self.without_pose = {}
         self.scanner = None
         self.scan_writer = None
         self.scan_header = None
@@ -169,8 +170,18 @@ class BagDetector:
                 self.tf, config.scan_frame, mount_pose)
 
     def camera_pose(self, msg):
-        """The camera pose by the nodes' rule, on the bag's clock (the image stamps)."""
-        return self.camera_poses.pose(msg.header.frame_id, msg.header.stamp.to_sec())
+        """The camera pose by the nodes' rule, on the bag's clock (the image stamps); a frame
+        without one is counted under the reason (``without_pose``: reason -> image stamps)."""
+        return self.counted_pose(self.camera_poses, msg)
+
+    def counted_pose(self, poses, msg):
+        frame_id = msg.header.frame_id.lstrip('/')
+        pose = poses.pose(frame_id, msg.header.stamp.to_sec())
+        if pose is None:
+            reason = poses.problems.get(frame_id) or '%s in the bag' % missing_transform(
+                poses.base_frame, frame_id)
+            self.without_pose.setdefault(reason, set()).add(msg.header.stamp.to_sec())
+        return pose
 
     def on_image(self, msg, fps):
         """CanReport of one image message, or None when the frame cannot be read."""
@@ -202,7 +213,7 @@ class BagDetector:
     def scan(self, msg, bgr, intrinsics):
         """obstacle_scan's camera scan of the frame; its ranges are one row of the scan CSV
         (a frame without camera geometry gets none)."""
-        pose = self.scan_poses.pose(msg.header.frame_id, msg.header.stamp.to_sec())
+        pose = self.counted_pose(self.scan_poses, msg)
         result = self.scanner.scan(bgr, pose if intrinsics else None, intrinsics)
         if result.ranges is not None:
             if self.scan_header is None:
@@ -313,6 +324,11 @@ def main(argv=None):
     if args.scan_csv:
         print('bag_detect: camera scan of %d frames (the others had no camera geometry): %s' % (
             detector.scanned, args.scan_csv))
+    for reason, stamps in sorted(detector.without_pose.items()):
+        print('bag_detect: %d frames without a camera pose (NaN range and bearing, no scan): '
+              '%s; a base frame other than base_link: --param base_frame=NAME --param '
+              'scan_frame=NAME; a bag without the mount\'s TF: --camera-height M'
+              % (len(stamps), reason), file=sys.stderr)
     for reason, count in sorted(detector.skipped.items()):
         print('bag_detect: skipped %d of %d frames (no CSV row): %s' % (count, frames, reason),
               file=sys.stderr)
