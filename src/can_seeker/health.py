@@ -35,13 +35,15 @@ class InputMonitor:
 
     Older than ``timeout_s`` (None: no limit), or never received, is ``missing_level``: ERROR
     for an input the node cannot work without, WARN for one it works on without, OK for one
-    that may well be silent (a teleop that nobody types into). Thread-safe: callbacks record,
-    the diagnostics thread reads.
+    that may well be silent (a teleop that nobody types into). ``topic``, the resolved name it
+    arrives on, is reported with it, so a missing input says where the node listens.
+    Thread-safe: callbacks record, the diagnostics thread reads.
     """
 
     def __init__(self, name: str, timeout_s: Optional[float] = None,
-                 missing_level: int = ERROR, window_s: float = RATE_WINDOW_S):
+                 missing_level: int = ERROR, window_s: float = RATE_WINDOW_S, topic: str = ''):
         self.name = name
+        self.topic = topic
         self.timeout_s = timeout_s
         self.missing_level = missing_level
         self.window_s = window_s
@@ -78,7 +80,8 @@ class InputMonitor:
     def health(self, now_s: float) -> Health:
         """OK with the rate and age, or ``missing_level`` when never received or too old."""
         age_s, rate_hz = self.age_s(now_s), self.rate_hz(now_s)
-        values = (('messages', str(self.count)), ('rate (Hz)', '%.2f' % rate_hz),
+        values = ((('topic', self.topic),) if self.topic else ()) + (
+                  ('messages', str(self.count)), ('rate (Hz)', '%.2f' % rate_hz),
                   ('age of the newest (s)', 'none' if age_s is None else '%.3f' % age_s),
                   ('timeout (s)', 'none' if self.timeout_s is None else '%.3f' % self.timeout_s))
         if age_s is None:

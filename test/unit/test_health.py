@@ -23,6 +23,15 @@ def test_age_is_by_stamp_when_stamped_and_by_arrival_otherwise():
     assert monitor.age_s(6.5) == pytest.approx(0.5)
 
 
+def test_an_input_names_the_topic_it_listens_on_even_before_any_message():
+    image = InputMonitor('image', 1.0, topic='/raspicam_node/image/compressed')
+    assert image.health(1.0).message == 'no message yet'
+    assert ('topic', '/raspicam_node/image/compressed') in image.health(1.0).values
+    image.received(1.0, 1.0)
+    assert ('topic', '/raspicam_node/image/compressed') in image.health(1.2).values
+    assert 'topic' not in dict(InputMonitor('image').health(1.0).values)
+
+
 def test_missing_or_stale_input_is_reported_at_its_level():
     odometry = InputMonitor('odometry', timeout_s=0.5, missing_level=ERROR)
     assert odometry.health(1.0).level == ERROR
