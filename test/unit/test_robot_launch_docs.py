@@ -1,5 +1,6 @@
 """Every argument of robot.launch, the launch a robot owner starts from, is named where the
-README's "On your robot" and nodes.md's robot.launch section list its arguments."""
+README's "On your robot" and nodes.md's robot.launch section list its arguments, and every
+argument of playback.launch (a robot's bag played back) in tools.md's playback paragraph."""
 import pathlib
 import re
 import xml.etree.ElementTree as ET
@@ -10,8 +11,8 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 DERIVED = {'profile_file'}  # computed from robot, documented as "set robot instead"
 
 
-def robot_launch_args():
-    root = ET.parse(str(REPO / 'launch' / 'robot.launch')).getroot()
+def launch_args(name='robot.launch'):
+    root = ET.parse(str(REPO / 'launch' / name)).getroot()
     return [arg.get('name') for arg in root.findall('arg') if arg.get('name') not in DERIVED]
 
 
@@ -32,5 +33,13 @@ def nodes_md_robot_launch():
                                          ('docs/nodes.md', nodes_md_robot_launch())])
 def test_every_robot_launch_argument_is_documented(where, text):
     named = set(re.findall(r'`([a-z_]+)`', text))
-    missing = [name for name in robot_launch_args() if name not in named]
+    missing = [name for name in launch_args() if name not in named]
     assert not missing, '%s does not name robot.launch arguments %s' % (where, missing)
+
+
+def test_every_playback_launch_argument_is_documented():
+    text = (REPO / 'docs' / 'tools.md').read_text()
+    paragraph = text[text.index('**`playback.launch`**'):text.index('**`bag_detect`**')]
+    named = set(re.findall(r'`([a-z_]+):=', paragraph))
+    missing = [name for name in launch_args('playback.launch') if name not in named]
+    assert not missing, 'tools.md does not name playback.launch arguments %s' % missing
