@@ -5,6 +5,7 @@ Pure: the nodes feed :class:`InputMonitor` from their callbacks and publish ever
 :class:`Health` with diagnostic_updater (``can_seeker.ros.diagnostics``).
 """
 import collections
+import math
 import threading
 from dataclasses import dataclass
 from typing import Deque, Optional, Sequence, Tuple
@@ -50,6 +51,7 @@ class InputMonitor:
         self.count = 0
         self._arrivals: Deque[float] = collections.deque()
         self._newest_s: Optional[float] = None
+        self._last_arrival_s = -math.inf
         self._lock = threading.Lock()
 
     def received(self, now_s: float, stamp_s: Optional[float] = None) -> None:
@@ -57,6 +59,7 @@ class InputMonitor:
         with self._lock:
             self.count += 1
             self._arrivals.append(now_s)
+            self._last_arrival_s = now_s
             self._newest_s = stamp_s if stamp_s else now_s
             self._forget_before(now_s - self.window_s)
 
@@ -77,6 +80,11 @@ class InputMonitor:
         with self._lock:
             return None if self._newest_s is None else now_s - self._newest_s
 
+    def arrival_age_s(self, now_s: float) -> float:
+        """How long ago the newest message arrived, whatever its stamp (inf before the first)."""
+        with self._lock:
+            return now_s - self._last_arrival_s
+
     def health(self, now_s: float) -> Health:
         """OK with the rate and age, or ``missing_level`` when never received or too old."""
         age_s, rate_hz = self.age_s(now_s), self.rate_hz(now_s)
@@ -86,6 +94,13 @@ class InputMonitor:
                   ('timeout (s)', 'none' if self.timeout_s is None else '%.3f' % self.timeout_s))
         if age_s is None:
             return Health(self.missing_level, 'no message yet', values)
+        if (self.timeout_s is not None and age_s > self.timeout_s
+                and self.arrival_age_s(now_s) <= self.timeout_s):
+            # Messages keep coming, stamped too long ago: the stamps, not the sender, are late.
+            return Health(self.missing_level, 'arriving at %.1f Hz but stamped %.2f s ago '
+                          '(timeout %.2f s): a late sender, or its clock behind this one '
+                          '(synchronise the clocks, e.g. with chrony)'
+                          % (rate_hz, age_s, self.timeout_s), values)
         if self.timeout_s is not None and age_s > self.timeout_s:
             return Health(self.missing_level, 'no message for %.2f s (timeout %.2f s)'
                           % (age_s, self.timeout_s), values)
