@@ -277,7 +277,9 @@ def load_profile(robot: str, search_dirs: Sequence[str] = ()) -> RobotProfile:
     return profile
 
 
-def launch_arguments(profile: RobotProfile) -> str:
-    """The robot.launch command line for this robot's driver topics."""
-    return ' '.join(['roslaunch can_seeker robot.launch robot:=%s' % profile.name]
+def launch_arguments(profile: RobotProfile, robot: Optional[str] = None) -> str:
+    """The robot.launch command line for this robot's driver topics; ``robot`` is its
+    ``robot:=`` value (a profile read from a file outside config/robots/ is named by its
+    absolute path, the only way robot.launch finds it); default the profile's name."""
+    return ' '.join(['roslaunch can_seeker robot.launch robot:=%s' % (robot or profile.name)]
                     + ['%s:=%s' % (key, value or '""') for key, value in profile.topics])

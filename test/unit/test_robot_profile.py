@@ -249,3 +249,15 @@ def test_the_simulated_waffle_pi_stands_level_and_drives_at_the_commanded_speed(
         for _ in range(240):
             world.step()
         assert world.robot_state().linear_velocity[0] == pytest.approx(0.2, rel=0.05)
+
+
+def test_robot_params_names_a_profile_file_by_its_absolute_path(tmp_path, monkeypatch, capsys):
+    """robot.launch finds a profile outside config/robots/ only by an absolute path."""
+    from can_seeker.tools.robot_params import main as robot_params
+    mine = tmp_path / 'my_waffle.yaml'
+    mine.write_text((ROBOTS / 'turtlebot3_waffle_pi.yaml').read_text())
+    monkeypatch.chdir(tmp_path)
+    robot_params(['my_waffle.yaml'])
+    assert 'robot.launch robot:=%s ' % mine in capsys.readouterr().out
+    robot_params(['create2'])
+    assert 'robot.launch robot:=create2 ' in capsys.readouterr().out
