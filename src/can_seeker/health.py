@@ -88,10 +88,11 @@ class InputMonitor:
     def health(self, now_s: float) -> Health:
         """OK with the rate and age, or ``missing_level`` when never received or too old."""
         age_s, rate_hz = self.age_s(now_s), self.rate_hz(now_s)
-        values = ((('topic', self.topic),) if self.topic else ()) + (
-                  ('messages', str(self.count)), ('rate (Hz)', '%.2f' % rate_hz),
+        values = (('messages', str(self.count)), ('rate (Hz)', '%.2f' % rate_hz),
                   ('age of the newest (s)', 'none' if age_s is None else '%.3f' % age_s),
                   ('timeout (s)', 'none' if self.timeout_s is None else '%.3f' % self.timeout_s))
+        if self.topic:
+            values = (('topic', self.topic),) + values
         if age_s is None:
             return Health(self.missing_level, 'no message yet', values)
         if (self.timeout_s is not None and age_s > self.timeout_s

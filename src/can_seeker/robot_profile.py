@@ -24,7 +24,8 @@ from can_seeker.sim.lidar import LidarSpec
 
 PROFILE_SECTION = 'robot_profile'
 NODES = ('image_converter', 'obstacle_scan', 'can_stopper')
-TOPIC_KEYS = ('camera', 'image', 'image_transport', 'cmd_vel', 'odom', 'base_frame', 'scan', 'bumper')
+TOPIC_KEYS = ('camera', 'image', 'image_transport', 'cmd_vel', 'odom', 'base_frame', 'scan',
+              'bumper')
 """robot.launch arguments a profile's ``topics`` names for its driver (roslaunch takes
 remappings from arguments only, so these are printed by ``robot_params``, not loaded)."""
 
