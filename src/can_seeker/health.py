@@ -5,6 +5,7 @@ Pure: the nodes feed :class:`InputMonitor` from their callbacks and publish ever
 :class:`Health` with diagnostic_updater (``can_seeker.ros.diagnostics``).
 """
 import collections
+import math
 import threading
 from dataclasses import dataclass
 from typing import Deque, Optional, Sequence, Tuple
@@ -35,19 +36,22 @@ class InputMonitor:
 
     Older than ``timeout_s`` (None: no limit), or never received, is ``missing_level``: ERROR
     for an input the node cannot work without, WARN for one it works on without, OK for one
-    that may well be silent (a teleop that nobody types into). Thread-safe: callbacks record,
-    the diagnostics thread reads.
+    that may well be silent (a teleop that nobody types into). ``topic``, the resolved name it
+    arrives on, is reported with it, so a missing input says where the node listens.
+    Thread-safe: callbacks record, the diagnostics thread reads.
     """
 
     def __init__(self, name: str, timeout_s: Optional[float] = None,
-                 missing_level: int = ERROR, window_s: float = RATE_WINDOW_S):
+                 missing_level: int = ERROR, window_s: float = RATE_WINDOW_S, topic: str = ''):
         self.name = name
+        self.topic = topic
         self.timeout_s = timeout_s
         self.missing_level = missing_level
         self.window_s = window_s
         self.count = 0
         self._arrivals: Deque[float] = collections.deque()
         self._newest_s: Optional[float] = None
+        self._last_arrival_s = -math.inf
         self._lock = threading.Lock()
 
     def received(self, now_s: float, stamp_s: Optional[float] = None) -> None:
@@ -55,6 +59,7 @@ class InputMonitor:
         with self._lock:
             self.count += 1
             self._arrivals.append(now_s)
+            self._last_arrival_s = now_s
             self._newest_s = stamp_s if stamp_s else now_s
             self._forget_before(now_s - self.window_s)
 
@@ -75,14 +80,28 @@ class InputMonitor:
         with self._lock:
             return None if self._newest_s is None else now_s - self._newest_s
 
+    def arrival_age_s(self, now_s: float) -> float:
+        """How long ago the newest message arrived, whatever its stamp (inf before the first)."""
+        with self._lock:
+            return now_s - self._last_arrival_s
+
     def health(self, now_s: float) -> Health:
         """OK with the rate and age, or ``missing_level`` when never received or too old."""
         age_s, rate_hz = self.age_s(now_s), self.rate_hz(now_s)
         values = (('messages', str(self.count)), ('rate (Hz)', '%.2f' % rate_hz),
                   ('age of the newest (s)', 'none' if age_s is None else '%.3f' % age_s),
                   ('timeout (s)', 'none' if self.timeout_s is None else '%.3f' % self.timeout_s))
+        if self.topic:
+            values = (('topic', self.topic),) + values
         if age_s is None:
             return Health(self.missing_level, 'no message yet', values)
+        if (self.timeout_s is not None and age_s > self.timeout_s
+                and self.arrival_age_s(now_s) <= self.timeout_s):
+            # Messages keep coming, stamped too long ago: the stamps, not the sender, are late.
+            return Health(self.missing_level, 'arriving at %.1f Hz but stamped %.2f s ago '
+                          '(timeout %.2f s): a late sender, or its clock behind this one '
+                          '(synchronise the clocks, e.g. with chrony)'
+                          % (rate_hz, age_s, self.timeout_s), values)
         if self.timeout_s is not None and age_s > self.timeout_s:
             return Health(self.missing_level, 'no message for %.2f s (timeout %.2f s)'
                           % (age_s, self.timeout_s), values)

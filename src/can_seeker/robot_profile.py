@@ -24,7 +24,8 @@ from can_seeker.sim.lidar import LidarSpec
 
 PROFILE_SECTION = 'robot_profile'
 NODES = ('image_converter', 'obstacle_scan', 'can_stopper')
-TOPIC_KEYS = ('camera', 'image_transport', 'cmd_vel', 'odom', 'base_frame', 'scan', 'bumper')
+TOPIC_KEYS = ('camera', 'image', 'image_transport', 'cmd_vel', 'odom', 'base_frame', 'scan',
+              'bumper')
 """robot.launch arguments a profile's ``topics`` names for its driver (roslaunch takes
 remappings from arguments only, so these are printed by ``robot_params``, not loaded)."""
 
@@ -277,7 +278,9 @@ def load_profile(robot: str, search_dirs: Sequence[str] = ()) -> RobotProfile:
     return profile
 
 
-def launch_arguments(profile: RobotProfile) -> str:
-    """The robot.launch command line for this robot's driver topics."""
-    return ' '.join(['roslaunch can_seeker robot.launch robot:=%s' % profile.name]
+def launch_arguments(profile: RobotProfile, robot: Optional[str] = None) -> str:
+    """The robot.launch command line for this robot's driver topics; ``robot`` is its
+    ``robot:=`` value (a profile read from a file outside config/robots/ is named by its
+    absolute path, the only way robot.launch finds it); default the profile's name."""
+    return ' '.join(['roslaunch can_seeker robot.launch robot:=%s' % (robot or profile.name)]
                     + ['%s:=%s' % (key, value or '""') for key, value in profile.topics])

@@ -60,3 +60,20 @@ def test_the_launch_wires_the_robots_topics_and_frames_and_sets_no_sim_time():
 def test_the_example_params_file_loads():
     params = dump('robot:=create2', 'params:=%s' % (REPO / 'config' / 'robot.yaml'))
     assert params['/can_stopper/stop_distance'] == pytest.approx(0.3)
+
+
+def image_remaps(*args):
+    """Where robot.launch points each image node's ``image`` (roslaunch's own loader)."""
+    import roslaunch.config
+    config = roslaunch.config.load_config_default(
+        [(str(REPO / 'launch' / 'robot.launch'), list(args))], None)
+    return {node.name: dict(node.remap_args)['image'] for node in config.nodes
+            if node.name in ('image_converter', 'obstacle_scan')}
+
+
+def test_the_image_topic_follows_the_camera_and_image_arguments():
+    assert image_remaps() == {'image_converter': 'camera/image_raw',
+                              'obstacle_scan': 'camera/image_raw'}
+    pi = image_remaps('robot:=turtlebot3_waffle_pi', 'camera:=raspicam_node', 'image:=image',
+                      'image_transport:=compressed')
+    assert pi == {'image_converter': 'raspicam_node/image', 'obstacle_scan': 'raspicam_node/image'}

@@ -5,7 +5,7 @@ import tf2_ros
 from geometry_msgs.msg import Transform
 
 from can_seeker.camera_geometry import camera_pose_from_transform
-from can_seeker.ros.camera_pose import PUBLISH_HINT, CameraPoseSource
+from can_seeker.ros.camera_pose import PUBLISH_HINT, CameraPoseSource, missing_transform
 
 FALLBACK = camera_pose_from_transform((0.1, 0.0, 0.2), (0.0, 0.0, 0.0, 1.0))
 
@@ -81,3 +81,25 @@ def test_without_a_fallback_there_is_no_pose_until_tf_has_one_and_an_error_says_
     tf.up = True
     assert source.pose('robot1/camera_optical_frame', 0.1).height_m == 0.25
     assert len(errors) == 1
+
+
+class StrictTF(FakeTF):
+    """tf2 itself refuses an empty frame name."""
+
+    def __call__(self, base, frame):
+        if not frame:
+            raise tf2_ros.InvalidArgumentException('frame_ids cannot be empty')
+        return super().__call__(base, frame)
+
+
+def test_an_unstamped_image_asks_for_the_drivers_frame_id_not_for_a_transform():
+    errors = []
+    source = CameraPoseSource(StrictTF(), 'base_footprint', error=errors.append,
+                              without='range and bearing are NaN')
+    assert source.pose('', 0.0) is None
+    assert len(errors) == 1
+    assert 'empty frame_id' in errors[0] and 'camera_frame_id' in errors[0]
+    assert PUBLISH_HINT not in errors[0]
+    assert errors[0].endswith('range and bearing are NaN')
+    assert missing_transform('base_footprint', '') == missing_transform('base_link', '/')
+    assert missing_transform('base_link', 'camera') == 'no TF base_link <- camera'

@@ -23,6 +23,27 @@ def test_age_is_by_stamp_when_stamped_and_by_arrival_otherwise():
     assert monitor.age_s(6.5) == pytest.approx(0.5)
 
 
+def test_an_input_names_the_topic_it_listens_on_even_before_any_message():
+    image = InputMonitor('image', 1.0, topic='/raspicam_node/image/compressed')
+    assert image.health(1.0).message == 'no message yet'
+    assert ('topic', '/raspicam_node/image/compressed') in image.health(1.0).values
+    image.received(1.0, 1.0)
+    assert ('topic', '/raspicam_node/image/compressed') in image.health(1.2).values
+    assert 'topic' not in dict(InputMonitor('image').health(1.0).values)
+
+
+def test_messages_that_keep_coming_with_old_stamps_point_at_the_senders_clock():
+    """A camera on a Pi whose clock is 2 s behind: 15 Hz of images, each stamped 2 s ago."""
+    image = InputMonitor('image', timeout_s=0.5, missing_level=ERROR)
+    for index in range(30):
+        image.received(10.0 + index / 15.0, 8.0 + index / 15.0)
+    health = image.health(12.0)
+    assert health.level == ERROR
+    assert health.message.startswith('arriving at 15.0 Hz but stamped 2.07 s ago (timeout 0.50 s)')
+    assert 'clock' in health.message
+    assert image.health(12.5).message == 'no message for 2.57 s (timeout 0.50 s)'  # none since
+
+
 def test_missing_or_stale_input_is_reported_at_its_level():
     odometry = InputMonitor('odometry', timeout_s=0.5, missing_level=ERROR)
     assert odometry.health(1.0).level == ERROR

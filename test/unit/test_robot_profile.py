@@ -162,6 +162,14 @@ def test_the_launch_line_has_the_drivers_topics():
     assert 'cmd_vel:=create1/cmd_vel' in line and 'base_frame:=base_footprint' in line
 
 
+def test_a_pi_camera_profile_reads_raspicam_nodes_image_topic():
+    """raspicam_node publishes raspicam_node/image/compressed, not image_raw/compressed."""
+    for name in ('turtlebot3_waffle_pi', 'turtlebot3_burger'):
+        line = launch_arguments(load(name))
+        assert 'camera:=raspicam_node' in line and 'image:=image ' in line
+        assert 'image_transport:=compressed' in line
+
+
 def test_a_footprint_profile_builds_its_box_wheels_casters_and_camera():
     profile = load('turtlebot3_waffle_pi')
     robot = ET.fromstring(robot_urdf(URDF.read_text(), camera_mount(profile), profile=profile))
@@ -241,3 +249,15 @@ def test_the_simulated_waffle_pi_stands_level_and_drives_at_the_commanded_speed(
         for _ in range(240):
             world.step()
         assert world.robot_state().linear_velocity[0] == pytest.approx(0.2, rel=0.05)
+
+
+def test_robot_params_names_a_profile_file_by_its_absolute_path(tmp_path, monkeypatch, capsys):
+    """robot.launch finds a profile outside config/robots/ only by an absolute path."""
+    from can_seeker.tools.robot_params import main as robot_params
+    mine = tmp_path / 'my_waffle.yaml'
+    mine.write_text((ROBOTS / 'turtlebot3_waffle_pi.yaml').read_text())
+    monkeypatch.chdir(tmp_path)
+    robot_params(['my_waffle.yaml'])
+    assert 'robot.launch robot:=%s ' % mine in capsys.readouterr().out
+    robot_params(['create2'])
+    assert 'robot.launch robot:=create2 ' in capsys.readouterr().out

@@ -109,15 +109,20 @@ class CanStopperNode:
         # Missing, an input the controller needs is an error, one it could use a warning.
         self.monitors = {
             'detection': InputMonitor('detection', params.detection_timeout,
-                                      WARN if self.controller.wander else ERROR),
+                                      WARN if self.controller.wander else ERROR,
+                                      topic=rospy.resolve_name('detection')),
             'odometry': InputMonitor('odometry', params.odom_timeout,
-                                     ERROR if self.controller.senses_obstacles else WARN),
+                                     ERROR if self.controller.senses_obstacles else WARN,
+                                     topic=rospy.resolve_name(params.odom_topic)),
             'camera_info': InputMonitor('camera_info', params.camera_info_timeout,
-                                        ERROR if self.controller.needs_camera_info else WARN)}
+                                        ERROR if self.controller.needs_camera_info else WARN,
+                                        topic=rospy.resolve_name('camera_info'))}
         if params.bumper_topic:
             # Bumpers report on a change, or at a rate: silence is no fault.
-            self.monitors['bumper'] = InputMonitor('bumper', missing_level=OK)
-        self.monitors.update({topic: InputMonitor('scan %s' % topic, params.scan_timeout)
+            self.monitors['bumper'] = InputMonitor('bumper', missing_level=OK,
+                                                   topic=rospy.resolve_name(params.bumper_topic))
+        self.monitors.update({topic: InputMonitor('scan %s' % topic, params.scan_timeout,
+                                                  topic=rospy.resolve_name(topic))
                               for topic in self.controller.scan_sources})
         rospy.Service('~reset', Empty, self.on_reset)
         rospy.Service('~enable', SetBool, self.on_enable)

@@ -32,7 +32,7 @@ from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import image_diagnostics
 from can_seeker.ros.messages import detection_msg, image_msg
 from can_seeker.vision.report import PARAMS, WINDOW_WIDTH_PX, CanModel, can_report
-from can_seeker.ros.image_input import image_decoder, subscribe_images
+from can_seeker.ros.image_input import image_decoder, image_topic, subscribe_images
 from can_seeker.vision.image_decode import DecodedImage, ImageDecodeError, NoColourError
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.detector import (DETECTOR_PARAMS, DetectorSettings, RedCanDetector,
@@ -92,7 +92,8 @@ class ImageConverterNode:
         self.reconfigure = Server(ImageConverterConfig, self.on_reconfigure)
         self.outcomes = Outcomes()
         self.diagnostics, self.image_monitor, self.info_monitor = image_diagnostics(
-            self.outcomes)
+            self.outcomes, image_topic(self.config.image_transport),
+            rospy.resolve_name('camera_info'))
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
         self.decode = image_decoder(self.config.image_transport)
         subscribe_images('image_converter', self.config.image_transport, self.on_image)

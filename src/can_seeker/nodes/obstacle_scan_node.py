@@ -33,7 +33,7 @@ from can_seeker.ros.messages import image_msg, laser_scan
 from can_seeker.throttle import KindThrottle
 from can_seeker.vision.camera_scan import PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.floor import FloorSettings
-from can_seeker.ros.image_input import image_decoder, subscribe_images
+from can_seeker.ros.image_input import image_decoder, image_topic, subscribe_images
 from can_seeker.vision.image_decode import DecodedImage, ImageDecodeError, NoColourError
 
 ERROR_PERIOD_S = 5.0
@@ -59,7 +59,8 @@ class ObstacleScanNode:
         self.obstacles_pub = rospy.Publisher('~obstacles', Image, queue_size=1)
         self.outcomes = Outcomes()
         self.diagnostics, self.image_monitor, self.info_monitor = image_diagnostics(
-            self.outcomes)
+            self.outcomes, image_topic(self.config.image_transport),
+            rospy.resolve_name('camera_info'))
         rospy.Service('~reset', Empty, self.on_reset)
         rospy.Subscriber('camera_info', CameraInfo, self.on_camera_info, queue_size=1)
         self.decode = image_decoder(self.config.image_transport)

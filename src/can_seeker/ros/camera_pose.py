@@ -38,8 +38,16 @@ PUBLISH_HINT = ('publish the camera mount in TF: roslaunch can_seeker robot_stat
 """How to give a node the transform it lacks."""
 
 
+UNSTAMPED = ('an empty frame_id, which TF cannot place: set the driver\'s frame id '
+             '(raspicam_node, usb_cam: camera_frame_id) to the sensor\'s frame in TF')
+"""What a message with an empty header.frame_id lacks (raspicam_node's default)."""
+
+
 def missing_transform(base_frame: str, frame_id: str) -> str:
-    """The words naming a transform TF lacks, as the nodes' errors and diagnostics say it."""
+    """The words naming a transform TF lacks, as the nodes' errors and diagnostics say it (a
+    message without a frame_id lacks the frame, not the transform: :data:`UNSTAMPED`)."""
+    if not frame_id.lstrip('/'):
+        return UNSTAMPED
     return 'no TF %s <- %s' % (base_frame, frame_id.lstrip('/'))
 
 
@@ -120,8 +128,11 @@ class CameraPoseSource:
                 self.warn('%s yet (%s); using the given camera mount'
                           % (missing_transform(self.base_frame, frame_id), error))
                 return self.fallback
-            self.error('%s (%s): %s; %s' % (missing_transform(self.base_frame, frame_id),
-                                            error, self.without, PUBLISH_HINT))
+            if not frame_id:
+                self.error('%s: %s' % (UNSTAMPED, self.without))
+            else:
+                self.error('%s (%s): %s; %s' % (missing_transform(self.base_frame, frame_id),
+                                                error, self.without, PUBLISH_HINT))
             return None
         if self.require_optical:
             problem = optical_frame_problem(pose, frame_id)

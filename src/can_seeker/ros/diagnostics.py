@@ -56,11 +56,12 @@ class NodeDiagnostics:
                                       % (type(error).__name__, error))
 
 
-def image_diagnostics(node_outcomes):
-    """A NodeDiagnostics with the image and camera_info inputs of an image node and its
-    ``node_outcomes`` (an Outcomes, as status 'frames'); the two InputMonitors."""
-    image = InputMonitor('image', IMAGE_TIMEOUT_S)
-    camera_info = InputMonitor('camera_info', missing_level=WARN)
+def image_diagnostics(node_outcomes, image_topic='', camera_info_topic=''):
+    """A NodeDiagnostics with the image and camera_info inputs of an image node (on the
+    resolved topics given) and its ``node_outcomes`` (an Outcomes, as status 'frames'); the
+    two InputMonitors."""
+    image = InputMonitor('image', IMAGE_TIMEOUT_S, topic=image_topic)
+    camera_info = InputMonitor('camera_info', missing_level=WARN, topic=camera_info_topic)
     diagnostics = NodeDiagnostics()
     diagnostics.add('frames', node_outcomes.health)
     diagnostics.add_input(image)

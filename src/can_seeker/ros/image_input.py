@@ -15,11 +15,17 @@ def image_decoder(transport: str):
     return MESSAGE_DECODERS[IMAGE_MESSAGES[transport]._type]
 
 
+def image_topic(transport: str) -> str:
+    """The resolved topic the images of ``transport`` arrive on: ``image``, or its
+    ``transport`` subtopic."""
+    return transport_topic(rospy.resolve_name('image'), transport)
+
+
 def subscribe_images(node_name: str, transport: str, callback) -> None:
     """Subscribe ``image`` (or its ``transport`` topic) to ``callback``, always the newest
     frame (decode with :func:`image_decoder`)."""
     message_class = IMAGE_MESSAGES[transport]
-    topic = transport_topic(rospy.resolve_name('image'), transport)
+    topic = image_topic(transport)
     if transport != 'raw':
         rospy.loginfo('%s: reading %s images from %s' % (node_name, transport, topic))
     rospy.Subscriber(topic, message_class, callback, queue_size=1, buff_size=IMAGE_BUFF_SIZE,

@@ -30,13 +30,14 @@ from can_seeker.output_paths import default_output_dir
 from can_seeker.vision import report
 from can_seeker.vision.report import CanModel, can_report
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
-from can_seeker.ros.camera_pose import CameraPoseSource
+from can_seeker.ros.camera_pose import CameraPoseSource, missing_transform
 from can_seeker.params import read_params
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_annotation
 from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 
 DEFAULT_IMAGE_TOPIC = '/camera/image_raw'
+CAMERA_INFO_TYPE = 'sensor_msgs/CameraInfo'
 TOOL_PARAMS = report.REPORT_PARAMS + FLOOR_PARAMS + SCAN_PARAMS
 CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
                'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method', 'confidence')
@@ -51,7 +52,10 @@ def parse_args(argv):
     parser.add_argument('--image-topic',
                         help='sensor_msgs/Image or CompressedImage topic (default: %s, else '
                              'the bag\'s only image topic)' % DEFAULT_IMAGE_TOPIC)
-    parser.add_argument('--camera-info-topic', default='/camera/camera_info')
+    parser.add_argument('--camera-info-topic',
+                        help='sensor_msgs/CameraInfo topic (default: camera_info beside the '
+                             'image topic, e.g. /raspicam_node/camera_info for '
+                             '/raspicam_node/image/compressed, else the bag\'s only one)')
     parser.add_argument('--scan-csv', metavar='FILE',
                         help='also run obstacle_scan\'s camera scan: one row of LaserScan '
                              'ranges per frame (columns: stamp, then each bin\'s angle in rad)')
@@ -105,6 +109,25 @@ def choose_image_topic(topic_types, requested):
     return topic, topic_types[topic]
 
 
+def choose_camera_info_topic(topic_types, image_topic, requested):
+    """The CameraInfo topic to read, given the bag's {topic: message type}, or None.
+
+    ``requested`` None means camera_info in the image topic's namespace (image_transport's
+    layout: ``/ns/image_raw`` and ``/ns/image/compressed`` have ``/ns/camera_info``), or else
+    the bag's only CameraInfo topic."""
+    if requested is not None:
+        return requested if topic_types.get(requested) == CAMERA_INFO_TYPE else None
+    base = image_topic.rstrip('/')
+    if topic_types.get(base) in MESSAGE_DECODERS and base.endswith('/compressed'):
+        base = base[:-len('/compressed')]
+    beside = base.rpartition('/')[0] + '/camera_info'
+    info_topics = sorted(topic for topic, msg_type in topic_types.items()
+                         if msg_type == CAMERA_INFO_TYPE)
+    if beside in info_topics:
+        return beside
+    return info_topics[0] if len(info_topics) == 1 else None
+
+
 def report_row(stamp_s, report):
     """CSV values of one frame's CanReport."""
     return ('%.6f' % stamp_s, int(report.found), '%.2f' % report.centroid_x,
@@ -134,6 +157,7 @@ class BagDetector:
         self.video = None
         self.video_size = None
         self.skipped = {}
+        self.without_pose = {}
         self.scanner = None
         self.scan_writer = None
         self.scan_header = None
@@ -146,8 +170,18 @@ class BagDetector:
                 self.tf, config.scan_frame, mount_pose)
 
     def camera_pose(self, msg):
-        """The camera pose by the nodes' rule, on the bag's clock (the image stamps)."""
-        return self.camera_poses.pose(msg.header.frame_id, msg.header.stamp.to_sec())
+        """The camera pose by the nodes' rule, on the bag's clock (the image stamps); a frame
+        without one is counted under the reason (``without_pose``: reason -> image stamps)."""
+        return self.counted_pose(self.camera_poses, msg)
+
+    def counted_pose(self, poses, msg):
+        frame_id = msg.header.frame_id.lstrip('/')
+        pose = poses.pose(frame_id, msg.header.stamp.to_sec())
+        if pose is None:
+            reason = poses.problems.get(frame_id) or '%s in the bag' % missing_transform(
+                poses.base_frame, frame_id)
+            self.without_pose.setdefault(reason, set()).add(msg.header.stamp.to_sec())
+        return pose
 
     def on_image(self, msg, fps):
         """CanReport of one image message, or None when the frame cannot be read."""
@@ -179,7 +213,7 @@ class BagDetector:
     def scan(self, msg, bgr, intrinsics):
         """obstacle_scan's camera scan of the frame; its ranges are one row of the scan CSV
         (a frame without camera geometry gets none)."""
-        pose = self.scan_poses.pose(msg.header.frame_id, msg.header.stamp.to_sec())
+        pose = self.counted_pose(self.scan_poses, msg)
         result = self.scanner.scan(bgr, pose if intrinsics else None, intrinsics)
         if result.ranges is not None:
             if self.scan_header is None:
@@ -227,10 +261,11 @@ class BagDetector:
         """Static TF and the first camera_info first, so the first frames get a range too."""
         for _, msg, _ in bag.read_messages(topics=['/tf_static']):
             self.add_transforms(msg, static=True)
-        for _, msg, _ in bag.read_messages(topics=[self.args.camera_info_topic]):
+        info_topics = [self.args.camera_info_topic] if self.args.camera_info_topic else []
+        for _, msg, _ in bag.read_messages(topics=info_topics) if info_topics else ():
             self.set_camera_info(msg)
             break
-        topics = [self.image_topic, self.args.camera_info_topic, '/tf']
+        topics = [self.image_topic, '/tf'] + info_topics
         image_count = bag.get_message_count(self.image_topic)
         duration_s = max(bag.get_end_time() - bag.get_start_time(), 1e-3)
         fps = max(1.0, min(120.0, image_count / duration_s))
@@ -265,6 +300,18 @@ def main(argv=None):
         if args.image_topic is None and image_topic != DEFAULT_IMAGE_TOPIC:
             print('bag_detect: no %s in the bag; reading its only image topic, %s (%s)' % (
                 DEFAULT_IMAGE_TOPIC, image_topic, image_type))
+        info_topic = choose_camera_info_topic(topic_types, image_topic, args.camera_info_topic)
+        if info_topic is None:
+            print('bag_detect: no camera_info %sin the bag (its CameraInfo topics: %s): every '
+                  'range and bearing is NaN and there is no camera scan; choose one with '
+                  '--camera-info-topic' % (
+                      args.camera_info_topic + ' ' if args.camera_info_topic else '',
+                      ', '.join(sorted(topic for topic, msg_type in topic_types.items()
+                                       if msg_type == CAMERA_INFO_TYPE)) or 'none'),
+                  file=sys.stderr)
+        elif args.camera_info_topic is None:
+            print('bag_detect: camera_info from %s' % info_topic)
+        args.camera_info_topic = info_topic
         detector = BagDetector(config, args, image_topic, image_type)
         with open(csv_path, 'w', newline='') as csv_file, \
                 open(args.scan_csv or os.devnull, 'w', newline='') as scan_file:
@@ -277,6 +324,11 @@ def main(argv=None):
     if args.scan_csv:
         print('bag_detect: camera scan of %d frames (the others had no camera geometry): %s' % (
             detector.scanned, args.scan_csv))
+    for reason, stamps in sorted(detector.without_pose.items()):
+        print('bag_detect: %d frames without a camera pose (NaN range and bearing, no scan): '
+              '%s; a base frame other than base_link: --param base_frame=NAME --param '
+              'scan_frame=NAME; a bag without the mount\'s TF: --camera-height M'
+              % (len(stamps), reason), file=sys.stderr)
     for reason, count in sorted(detector.skipped.items()):
         print('bag_detect: skipped %d of %d frames (no CSV row): %s' % (count, frames, reason),
               file=sys.stderr)

@@ -20,7 +20,8 @@ def main(argv=None):
     parser.add_argument('robot', help="a name in the package's config/robots/ or a YAML path")
     args = parser.parse_args(argv)
     search = []
-    if not os.path.isfile(args.robot):
+    robot = os.path.abspath(args.robot) if os.path.isfile(args.robot) else None
+    if robot is None:
         import rospkg  # only for a name: finding the package crawls ROS_PACKAGE_PATH
         search = [os.path.join(rospkg.RosPack().get_path('can_seeker'), 'config', 'robots')]
     try:
@@ -29,4 +30,4 @@ def main(argv=None):
         sys.exit('robot_params: %s' % error)
     print('# node parameters from the figures of %s' % profile.name)
     sys.stdout.write(yaml.safe_dump(node_params(profile), default_flow_style=False))
-    print('# bring it up:\n# %s' % launch_arguments(profile))
+    print('# bring it up:\n# %s' % launch_arguments(profile, robot))
