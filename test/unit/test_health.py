@@ -1,7 +1,8 @@
 """Input rates and ages, and the levels a node's diagnostics report them at."""
 import pytest
 
-from can_seeker.health import ERROR, OK, WARN, Health, InputMonitor, Outcomes, worst
+from can_seeker.health import (CLOCK_GRACE_S, ERROR, NO_CLOCK_HINT, OK, WARN, Health, InputMonitor,
+                               Outcomes, clock_health, worst)
 from can_seeker.sim.status import RunStatus
 
 
@@ -92,3 +93,13 @@ def test_outcomes_report_the_worst_of_the_recent_frames():
     assert health.level == OK
     assert health.message == 'last 3 frames: 2 can found, 1 no can'
     assert ('frames', '4') in health.values
+
+
+def test_clock_health_warns_while_sim_time_does_not_start():
+    assert clock_health(False, 0.0, 100.0) == Health(OK, 'wall clock')
+    assert clock_health(True, 0.0, CLOCK_GRACE_S - 0.1).level == OK
+    waited = clock_health(True, 0.0, CLOCK_GRACE_S + 1.0)
+    assert waited.level == WARN
+    assert NO_CLOCK_HINT in waited.message and 'use_sim_time' in waited.message
+    started = clock_health(True, 3.25, CLOCK_GRACE_S + 100.0)
+    assert started.level == OK and ('time (s)', '3.250') in started.values

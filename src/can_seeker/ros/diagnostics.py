@@ -11,21 +11,39 @@ import time
 import diagnostic_updater
 import rospy
 
-from can_seeker.health import WARN, InputMonitor
+from can_seeker.health import WARN, InputMonitor, clock_health
 
 PERIOD_S = 1.0
 ERROR_PERIOD_S = 60.0
+CLOCK_WARN_PERIOD_S = 30.0
+"""A clock that does not start is logged at most this often (wall-clock s: rospy's throttled
+logging counts on the clock that stands still)."""
 IMAGE_TIMEOUT_S = 1.0
 """An image node reports the camera as missing once its newest image is this old (s)."""
 
 
 class NodeDiagnostics:
-    """diagnostic_updater tasks of one node; :meth:`start` begins publishing."""
+    """diagnostic_updater tasks of one node; :meth:`start` begins publishing. With ``clock``
+    (every node but the one that publishes /clock) a status 'clock' says whether sim time
+    has started (:func:`can_seeker.health.clock_health`), and its WARN is logged too."""
 
-    def __init__(self):
+    def __init__(self, clock: bool = True):
         self.updater = diagnostic_updater.Updater()
         self.updater.setHardwareID('none')
         self._thread = threading.Thread(target=self._publish, name='diagnostics', daemon=True)
+        self._started_wall_s = time.monotonic()
+        self._clock_logged_wall_s = -float('inf')
+        if clock:
+            self.add('clock', self._clock_health)
+
+    def _clock_health(self):
+        health = clock_health(not rospy.rostime.is_wallclock(), rospy.get_time(),
+                              time.monotonic() - self._started_wall_s)
+        now_wall_s = time.monotonic()
+        if health.level >= WARN and now_wall_s - self._clock_logged_wall_s >= CLOCK_WARN_PERIOD_S:
+            self._clock_logged_wall_s = now_wall_s
+            rospy.logwarn('%s: %s' % (rospy.get_name().lstrip('/'), health.message))
+        return health
 
     def add(self, name, health):
         """A status ``name`` from ``health()`` (a Health)."""
