@@ -26,27 +26,33 @@ class Health:
 
 
 CLOCK_GRACE_S = 5.0
-"""Wall-clock seconds a node under use_sim_time waits for its first /clock before it warns."""
-NO_CLOCK_HINT = ('nothing publishes /clock (start the simulator, or rosbag play --clock), or '
-                 '/use_sim_time was left true by an earlier sim or playback launch on this '
-                 'master: rosparam set /use_sim_time false, then start the nodes again')
-"""What to do about a node whose sim time does not start."""
+"""Wall-clock seconds a node under use_sim_time waits for a /clock publisher before it warns."""
+NO_CLOCK_HINT = ('start the simulator or rosbag play --clock, or, if /use_sim_time was left true '
+                 'by an earlier sim or playback launch on this master, rosparam set '
+                 '/use_sim_time false and start the nodes again')
+"""What to do about a node under use_sim_time without a clock."""
 
 
-def clock_health(sim_time: bool, clock_s: float, waited_s: float) -> Health:
+def clock_health(sim_time: bool, clock_s: float, clock_publishers: int,
+                 waited_s: float) -> Health:
     """The node's clock: the wall clock, or under use_sim_time the time /clock gave; a WARN
-    (with :data:`NO_CLOCK_HINT`) while it still stands at 0 ``waited_s`` >=
-    :data:`CLOCK_GRACE_S` wall-clock seconds after the start (no timer fires, every input
-    looks as old as at the start, no command goes out)."""
+    (with :data:`NO_CLOCK_HINT`) when nothing has published /clock ``waited_s`` >=
+    :data:`CLOCK_GRACE_S` wall-clock seconds after the start, or its publisher is gone: the
+    clock stands still, so no timer fires and every input keeps its age."""
     if not sim_time:
         return Health(OK, 'wall clock')
-    values = (('use_sim_time', 'true'), ('time (s)', '%.3f' % clock_s))
-    if clock_s > 0.0:
+    values = (('use_sim_time', 'true'), ('time (s)', '%.3f' % clock_s),
+              ('/clock publishers', str(clock_publishers)))
+    if clock_publishers > 0:
         return Health(OK, 'sim time from /clock', values)
+    if clock_s > 0.0:
+        return Health(WARN, 'nothing publishes /clock any more: the clock stands at %.3f s '
+                      '(a bag that ended, a simulator that stopped); %s'
+                      % (clock_s, NO_CLOCK_HINT), values)
     if waited_s < CLOCK_GRACE_S:
         return Health(OK, 'waiting for /clock', values)
-    return Health(WARN, 'use_sim_time is true and the clock still stands at 0 after %.0f s: '
-                  '%s' % (waited_s, NO_CLOCK_HINT), values)
+    return Health(WARN, 'use_sim_time is true and nothing publishes /clock after %.0f s: the '
+                  'clock stands at 0; %s' % (waited_s, NO_CLOCK_HINT), values)
 
 
 def worst(healths: Sequence[Health]) -> int:

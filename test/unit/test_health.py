@@ -95,11 +95,14 @@ def test_outcomes_report_the_worst_of_the_recent_frames():
     assert ('frames', '4') in health.values
 
 
-def test_clock_health_warns_while_sim_time_does_not_start():
-    assert clock_health(False, 0.0, 100.0) == Health(OK, 'wall clock')
-    assert clock_health(True, 0.0, CLOCK_GRACE_S - 0.1).level == OK
-    waited = clock_health(True, 0.0, CLOCK_GRACE_S + 1.0)
-    assert waited.level == WARN
-    assert NO_CLOCK_HINT in waited.message and 'use_sim_time' in waited.message
-    started = clock_health(True, 3.25, CLOCK_GRACE_S + 100.0)
+def test_clock_health_warns_without_a_clock_publisher():
+    assert clock_health(False, 0.0, 0, 100.0) == Health(OK, 'wall clock')
+    assert clock_health(True, 0.0, 0, CLOCK_GRACE_S - 0.1).level == OK
+    assert clock_health(True, 0.0, 1, CLOCK_GRACE_S + 100.0).level == OK   # a paused sim at 0
+    never = clock_health(True, 0.0, 0, CLOCK_GRACE_S + 1.0)
+    assert never.level == WARN
+    assert NO_CLOCK_HINT in never.message and 'use_sim_time' in never.message
+    gone = clock_health(True, 3.25, 0, 1.0)
+    assert gone.level == WARN and '3.250' in gone.message
+    started = clock_health(True, 3.25, 1, CLOCK_GRACE_S + 100.0)
     assert started.level == OK and ('time (s)', '3.250') in started.values

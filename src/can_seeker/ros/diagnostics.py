@@ -10,6 +10,7 @@ import time
 
 import diagnostic_updater
 import rospy
+from rosgraph_msgs.msg import Clock
 
 from can_seeker.health import WARN, InputMonitor, clock_health
 
@@ -33,11 +34,16 @@ class NodeDiagnostics:
         self._thread = threading.Thread(target=self._publish, name='diagnostics', daemon=True)
         self._started_wall_s = time.monotonic()
         self._clock_logged_wall_s = -float('inf')
+        self._clock_sub = None
         if clock:
+            if not rospy.rostime.is_wallclock():
+                # rospy's own /clock connection, shared: it only counts the publishers
+                self._clock_sub = rospy.Subscriber('/clock', Clock, queue_size=1)
             self.add('clock', self._clock_health)
 
     def _clock_health(self):
-        health = clock_health(not rospy.rostime.is_wallclock(), rospy.get_time(),
+        publishers = 0 if self._clock_sub is None else self._clock_sub.get_num_connections()
+        health = clock_health(self._clock_sub is not None, rospy.get_time(), publishers,
                               time.monotonic() - self._started_wall_s)
         now_wall_s = time.monotonic()
         if health.level >= WARN and now_wall_s - self._clock_logged_wall_s >= CLOCK_WARN_PERIOD_S:
