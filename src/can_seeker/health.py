@@ -34,25 +34,25 @@ NO_CLOCK_HINT = ('start the simulator or rosbag play --clock, or, if /use_sim_ti
 
 
 def clock_health(sim_time: bool, clock_s: float, clock_publishers: int,
-                 waited_s: float) -> Health:
+                 unpublished_s: float) -> Health:
     """The node's clock: the wall clock, or under use_sim_time the time /clock gave; a WARN
-    (with :data:`NO_CLOCK_HINT`) when nothing has published /clock ``waited_s`` >=
-    :data:`CLOCK_GRACE_S` wall-clock seconds after the start, or its publisher is gone: the
-    clock stands still, so no timer fires and every input keeps its age."""
+    (with :data:`NO_CLOCK_HINT`) once nothing has published /clock for ``unpublished_s`` >=
+    :data:`CLOCK_GRACE_S` wall-clock seconds (since the start, or since its publisher left):
+    the clock stands still, so no timer fires and every input keeps its age."""
     if not sim_time:
         return Health(OK, 'wall clock')
     values = (('use_sim_time', 'true'), ('time (s)', '%.3f' % clock_s),
               ('/clock publishers', str(clock_publishers)))
     if clock_publishers > 0:
         return Health(OK, 'sim time from /clock', values)
-    if clock_s > 0.0:
-        return Health(WARN, 'nothing publishes /clock any more: the clock stands at %.3f s '
-                      '(a bag that ended, a simulator that stopped); %s'
-                      % (clock_s, NO_CLOCK_HINT), values)
-    if waited_s < CLOCK_GRACE_S:
+    if unpublished_s < CLOCK_GRACE_S:
         return Health(OK, 'waiting for /clock', values)
-    return Health(WARN, 'use_sim_time is true and nothing publishes /clock after %.0f s: the '
-                  'clock stands at 0; %s' % (waited_s, NO_CLOCK_HINT), values)
+    if clock_s > 0.0:
+        return Health(WARN, 'nothing has published /clock for %.0f s: the clock stands at %.3f s '
+                      '(a bag that ended, a simulator that stopped); %s'
+                      % (unpublished_s, clock_s, NO_CLOCK_HINT), values)
+    return Health(WARN, 'use_sim_time is true and nothing has published /clock for %.0f s: the '
+                  'clock stands at 0; %s' % (unpublished_s, NO_CLOCK_HINT), values)
 
 
 def worst(healths: Sequence[Health]) -> int:

@@ -102,7 +102,8 @@ def test_clock_health_warns_without_a_clock_publisher():
     never = clock_health(True, 0.0, 0, CLOCK_GRACE_S + 1.0)
     assert never.level == WARN
     assert NO_CLOCK_HINT in never.message and 'use_sim_time' in never.message
-    gone = clock_health(True, 3.25, 0, 1.0)
+    assert clock_health(True, 3.25, 0, CLOCK_GRACE_S - 0.1).level == OK   # shutting down
+    gone = clock_health(True, 3.25, 0, CLOCK_GRACE_S + 1.0)
     assert gone.level == WARN and '3.250' in gone.message
     started = clock_health(True, 3.25, 1, CLOCK_GRACE_S + 100.0)
     assert started.level == OK and ('time (s)', '3.250') in started.values

@@ -25,14 +25,16 @@ IMAGE_TIMEOUT_S = 1.0
 
 class NodeDiagnostics:
     """diagnostic_updater tasks of one node; :meth:`start` begins publishing. With ``clock``
-    (every node but the one that publishes /clock) a status 'clock' says whether sim time
-    has started (:func:`can_seeker.health.clock_health`), and its WARN is logged too."""
+    (every node but the one that publishes /clock) a status 'clock' says whether, under
+    use_sim_time, anything publishes /clock (:func:`can_seeker.health.clock_health`), and its
+    WARN is logged too."""
 
     def __init__(self, clock: bool = True):
         self.updater = diagnostic_updater.Updater()
         self.updater.setHardwareID('none')
         self._thread = threading.Thread(target=self._publish, name='diagnostics', daemon=True)
-        self._started_wall_s = time.monotonic()
+        self._clock_published_wall_s = time.monotonic()
+        """When a /clock publisher was last seen (wall clock; the start before any)."""
         self._clock_logged_wall_s = -float('inf')
         self._clock_sub = None
         if clock:
@@ -43,9 +45,11 @@ class NodeDiagnostics:
 
     def _clock_health(self):
         publishers = 0 if self._clock_sub is None else self._clock_sub.get_num_connections()
-        health = clock_health(self._clock_sub is not None, rospy.get_time(), publishers,
-                              time.monotonic() - self._started_wall_s)
         now_wall_s = time.monotonic()
+        if publishers:
+            self._clock_published_wall_s = now_wall_s
+        health = clock_health(self._clock_sub is not None, rospy.get_time(), publishers,
+                              now_wall_s - self._clock_published_wall_s)
         if health.level >= WARN and now_wall_s - self._clock_logged_wall_s >= CLOCK_WARN_PERIOD_S:
             self._clock_logged_wall_s = now_wall_s
             rospy.logwarn('%s: %s' % (rospy.get_name().lstrip('/'), health.message))
