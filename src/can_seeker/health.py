@@ -82,6 +82,7 @@ class InputMonitor:
         self._arrivals: Deque[float] = collections.deque()
         self._newest_s: Optional[float] = None
         self._last_arrival_s = -math.inf
+        self._refused = ''
         self._lock = threading.Lock()
 
     def received(self, now_s: float, stamp_s: Optional[float] = None) -> None:
@@ -90,6 +91,7 @@ class InputMonitor:
             self.count += 1
             self._arrivals.append(now_s)
             self._last_arrival_s = now_s
+            self._refused = ''
             self._newest_s = stamp_s if stamp_s else now_s
             self._forget_before(now_s - self.window_s)
 
@@ -110,6 +112,12 @@ class InputMonitor:
         with self._lock:
             return None if self._newest_s is None else now_s - self._newest_s
 
+    def refused(self, problem: str) -> None:
+        """The newest message was received (:meth:`received`) but not used: ``problem`` says
+        why; the input is reported at its missing level until a message is used again."""
+        with self._lock:
+            self._refused = problem
+
     def arrival_age_s(self, now_s: float) -> float:
         """How long ago the newest message arrived, whatever its stamp (inf before the first)."""
         with self._lock:
@@ -125,6 +133,11 @@ class InputMonitor:
             values = (('topic', self.topic),) + values
         if age_s is None:
             return Health(self.missing_level, 'no message yet', values)
+        with self._lock:
+            refused = self._refused
+        if refused:
+            return Health(self.missing_level, 'arriving, the newest refused: %s' % refused,
+                          values)
         if (self.timeout_s is not None and age_s > self.timeout_s
                 and self.arrival_age_s(now_s) <= self.timeout_s):
             # Messages keep coming, stamped too long ago: the stamps, not the sender, are late.

@@ -107,3 +107,16 @@ def test_clock_health_warns_without_a_clock_publisher():
     assert gone.level == WARN and '3.250' in gone.message
     started = clock_health(True, 3.25, 1, CLOCK_GRACE_S + 100.0)
     assert started.level == OK and ('time (s)', '3.250') in started.values
+
+
+def test_a_refused_message_is_reported_until_one_is_used():
+    monitor = InputMonitor('camera_info', 1.0, WARN, topic='/camera/camera_info')
+    monitor.received(10.0, 10.0)
+    assert monitor.health(10.1).level == OK
+    monitor.received(10.2, 10.2)
+    monitor.refused('K is all zero')
+    refused = monitor.health(10.3)
+    assert refused.level == WARN and 'K is all zero' in refused.message
+    assert ('topic', '/camera/camera_info') in refused.values
+    monitor.received(10.4, 10.4)
+    assert monitor.health(10.5).level == OK
