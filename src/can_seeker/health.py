@@ -25,6 +25,36 @@ class Health:
     values: Tuple[Tuple[str, str], ...] = ()
 
 
+CLOCK_GRACE_S = 5.0
+"""Wall-clock seconds a node under use_sim_time waits for a /clock publisher before it warns."""
+NO_CLOCK_HINT = ('start the simulator or rosbag play --clock, or, if /use_sim_time was left true '
+                 'by an earlier sim or playback launch on this master, rosparam set '
+                 '/use_sim_time false and start the nodes again')
+"""What to do about a node under use_sim_time without a clock."""
+
+
+def clock_health(sim_time: bool, clock_s: float, clock_publishers: int,
+                 unpublished_s: float) -> Health:
+    """The node's clock: the wall clock, or under use_sim_time the time /clock gave; a WARN
+    (with :data:`NO_CLOCK_HINT`) once nothing has published /clock for ``unpublished_s`` >=
+    :data:`CLOCK_GRACE_S` wall-clock seconds (since the start, or since its publisher left):
+    the clock stands still, so no timer fires and every input keeps its age."""
+    if not sim_time:
+        return Health(OK, 'wall clock')
+    values = (('use_sim_time', 'true'), ('time (s)', '%.3f' % clock_s),
+              ('/clock publishers', str(clock_publishers)))
+    if clock_publishers > 0:
+        return Health(OK, 'sim time from /clock', values)
+    if unpublished_s < CLOCK_GRACE_S:
+        return Health(OK, 'waiting for /clock', values)
+    if clock_s > 0.0:
+        return Health(WARN, 'nothing has published /clock for %.0f s: the clock stands at %.3f s '
+                      '(a bag that ended, a simulator that stopped); %s'
+                      % (unpublished_s, clock_s, NO_CLOCK_HINT), values)
+    return Health(WARN, 'use_sim_time is true and nothing has published /clock for %.0f s: the '
+                  'clock stands at 0; %s' % (unpublished_s, NO_CLOCK_HINT), values)
+
+
 def worst(healths: Sequence[Health]) -> int:
     """The highest level among ``healths`` (OK for none)."""
     return max((health.level for health in healths), default=OK)
@@ -52,6 +82,7 @@ class InputMonitor:
         self._arrivals: Deque[float] = collections.deque()
         self._newest_s: Optional[float] = None
         self._last_arrival_s = -math.inf
+        self._refused = ''
         self._lock = threading.Lock()
 
     def received(self, now_s: float, stamp_s: Optional[float] = None) -> None:
@@ -60,6 +91,7 @@ class InputMonitor:
             self.count += 1
             self._arrivals.append(now_s)
             self._last_arrival_s = now_s
+            self._refused = ''
             self._newest_s = stamp_s if stamp_s else now_s
             self._forget_before(now_s - self.window_s)
 
@@ -80,6 +112,12 @@ class InputMonitor:
         with self._lock:
             return None if self._newest_s is None else now_s - self._newest_s
 
+    def refused(self, problem: str) -> None:
+        """The newest message was received (:meth:`received`) but not used: ``problem`` says
+        why; the input is reported at its missing level until a message is used again."""
+        with self._lock:
+            self._refused = problem
+
     def arrival_age_s(self, now_s: float) -> float:
         """How long ago the newest message arrived, whatever its stamp (inf before the first)."""
         with self._lock:
@@ -95,6 +133,11 @@ class InputMonitor:
             values = (('topic', self.topic),) + values
         if age_s is None:
             return Health(self.missing_level, 'no message yet', values)
+        with self._lock:
+            refused = self._refused
+        if refused:
+            return Health(self.missing_level, 'arriving, the newest refused: %s' % refused,
+                          values)
         if (self.timeout_s is not None and age_s > self.timeout_s
                 and self.arrival_age_s(now_s) <= self.timeout_s):
             # Messages keep coming, stamped too long ago: the stamps, not the sender, are late.

@@ -1,7 +1,8 @@
 """Input rates and ages, and the levels a node's diagnostics report them at."""
 import pytest
 
-from can_seeker.health import ERROR, OK, WARN, Health, InputMonitor, Outcomes, worst
+from can_seeker.health import (CLOCK_GRACE_S, ERROR, NO_CLOCK_HINT, OK, WARN, Health, InputMonitor,
+                               Outcomes, clock_health, worst)
 from can_seeker.sim.status import RunStatus
 
 
@@ -92,3 +93,30 @@ def test_outcomes_report_the_worst_of_the_recent_frames():
     assert health.level == OK
     assert health.message == 'last 3 frames: 2 can found, 1 no can'
     assert ('frames', '4') in health.values
+
+
+def test_clock_health_warns_without_a_clock_publisher():
+    assert clock_health(False, 0.0, 0, 100.0) == Health(OK, 'wall clock')
+    assert clock_health(True, 0.0, 0, CLOCK_GRACE_S - 0.1).level == OK
+    assert clock_health(True, 0.0, 1, CLOCK_GRACE_S + 100.0).level == OK   # a paused sim at 0
+    never = clock_health(True, 0.0, 0, CLOCK_GRACE_S + 1.0)
+    assert never.level == WARN
+    assert NO_CLOCK_HINT in never.message and 'use_sim_time' in never.message
+    assert clock_health(True, 3.25, 0, CLOCK_GRACE_S - 0.1).level == OK   # shutting down
+    gone = clock_health(True, 3.25, 0, CLOCK_GRACE_S + 1.0)
+    assert gone.level == WARN and '3.250' in gone.message
+    started = clock_health(True, 3.25, 1, CLOCK_GRACE_S + 100.0)
+    assert started.level == OK and ('time (s)', '3.250') in started.values
+
+
+def test_a_refused_message_is_reported_until_one_is_used():
+    monitor = InputMonitor('camera_info', 1.0, WARN, topic='/camera/camera_info')
+    monitor.received(10.0, 10.0)
+    assert monitor.health(10.1).level == OK
+    monitor.received(10.2, 10.2)
+    monitor.refused('K is all zero')
+    refused = monitor.health(10.3)
+    assert refused.level == WARN and 'K is all zero' in refused.message
+    assert ('topic', '/camera/camera_info') in refused.values
+    monitor.received(10.4, 10.4)
+    assert monitor.health(10.5).level == OK

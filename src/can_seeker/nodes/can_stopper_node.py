@@ -195,6 +195,7 @@ class CanStopperNode:
         try:
             intrinsics = intrinsics_from_k(info.width, info.height, info.K)
         except ValueError as error:
+            self.monitors['camera_info'].refused(str(error))
             rospy.logerr_throttle(5.0, 'can_stopper: bad camera_info: %s' % error)
             return
         with self.lock:

@@ -128,6 +128,7 @@ class ImageConverterNode:
                 msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
                 self.config.image_rectified)
         except ValueError as error:
+            self.info_monitor.refused(str(error))
             rospy.logerr_throttle(ERROR_PERIOD_S,
                                   'image_converter: ignoring camera_info: %s' % error)
 

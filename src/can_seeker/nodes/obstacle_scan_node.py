@@ -81,6 +81,7 @@ class ObstacleScanNode:
                 msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
                 self.config.image_rectified)
         except ValueError as error:
+            self.info_monitor.refused(str(error))
             rospy.logerr_throttle(ERROR_PERIOD_S, 'obstacle_scan: ignoring camera_info: %s'
                                   % error)
 

@@ -156,7 +156,7 @@ class SimNode:
             rospy.Subscriber('cmd_vel', Twist, self._on_cmd_vel, queue_size=10)
         else:
             self._subscribe_lockstep(parse_topics(config.lockstep_topics))
-        self._diagnostics = NodeDiagnostics()
+        self._diagnostics = NodeDiagnostics(clock=False)
         self._diagnostics.add('simulation', self._health)
         self._diagnostics.add('commands', lambda: self._commands.health(self._sim.time_s))
         self._diagnostics.add('parameters', lambda: unread_health(self._unread_params))

@@ -10,22 +10,50 @@ import time
 
 import diagnostic_updater
 import rospy
+from rosgraph_msgs.msg import Clock
 
-from can_seeker.health import WARN, InputMonitor
+from can_seeker.health import WARN, InputMonitor, clock_health
 
 PERIOD_S = 1.0
 ERROR_PERIOD_S = 60.0
+CLOCK_WARN_PERIOD_S = 30.0
+"""A clock that does not start is logged at most this often (wall-clock s: rospy's throttled
+logging counts on the clock that stands still)."""
 IMAGE_TIMEOUT_S = 1.0
 """An image node reports the camera as missing once its newest image is this old (s)."""
 
 
 class NodeDiagnostics:
-    """diagnostic_updater tasks of one node; :meth:`start` begins publishing."""
+    """diagnostic_updater tasks of one node; :meth:`start` begins publishing. With ``clock``
+    (every node but the one that publishes /clock) a status 'clock' says whether, under
+    use_sim_time, anything publishes /clock (:func:`can_seeker.health.clock_health`), and its
+    WARN is logged too."""
 
-    def __init__(self):
+    def __init__(self, clock: bool = True):
         self.updater = diagnostic_updater.Updater()
         self.updater.setHardwareID('none')
         self._thread = threading.Thread(target=self._publish, name='diagnostics', daemon=True)
+        self._clock_published_wall_s = time.monotonic()
+        """When a /clock publisher was last seen (wall clock; the start before any)."""
+        self._clock_logged_wall_s = -float('inf')
+        self._clock_sub = None
+        if clock:
+            if not rospy.rostime.is_wallclock():
+                # rospy's own /clock connection, shared: it only counts the publishers
+                self._clock_sub = rospy.Subscriber('/clock', Clock, queue_size=1)
+            self.add('clock', self._clock_health)
+
+    def _clock_health(self):
+        publishers = 0 if self._clock_sub is None else self._clock_sub.get_num_connections()
+        now_wall_s = time.monotonic()
+        if publishers:
+            self._clock_published_wall_s = now_wall_s
+        health = clock_health(self._clock_sub is not None, rospy.get_time(), publishers,
+                              now_wall_s - self._clock_published_wall_s)
+        if health.level >= WARN and now_wall_s - self._clock_logged_wall_s >= CLOCK_WARN_PERIOD_S:
+            self._clock_logged_wall_s = now_wall_s
+            rospy.logwarn('%s: %s' % (rospy.get_name().lstrip('/'), health.message))
+        return health
 
     def add(self, name, health):
         """A status ``name`` from ``health()`` (a Health)."""
