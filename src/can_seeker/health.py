@@ -25,7 +25,7 @@ class Health:
     values: Tuple[Tuple[str, str], ...] = ()
 
 
-CLOCK_GRACE_S = 5.0
+CLOCK_GRACE_S = 10.0
 """Wall-clock seconds a node under use_sim_time waits for a /clock publisher before it warns."""
 NO_CLOCK_HINT = ('start the simulator or rosbag play --clock, or, if /use_sim_time was left true '
                  'by an earlier sim or playback launch on this master, rosparam set '
@@ -85,13 +85,16 @@ class InputMonitor:
         self._refused = ''
         self._lock = threading.Lock()
 
-    def received(self, now_s: float, stamp_s: Optional[float] = None) -> None:
-        """A message arrived at ``now_s``, stamped ``stamp_s`` (None or 0: no stamp)."""
+    def received(self, now_s: float, stamp_s: Optional[float] = None,
+                 refused: str = '') -> None:
+        """A message arrived at ``now_s``, stamped ``stamp_s`` (None or 0: no stamp);
+        ``refused`` says why it could not be used (the input is then reported at its missing
+        level until one that is used arrives)."""
         with self._lock:
             self.count += 1
             self._arrivals.append(now_s)
             self._last_arrival_s = now_s
-            self._refused = ''
+            self._refused = refused
             self._newest_s = stamp_s if stamp_s else now_s
             self._forget_before(now_s - self.window_s)
 
@@ -111,12 +114,6 @@ class InputMonitor:
         """How old the newest message is (s), None before the first."""
         with self._lock:
             return None if self._newest_s is None else now_s - self._newest_s
-
-    def refused(self, problem: str) -> None:
-        """The newest message was received (:meth:`received`) but not used: ``problem`` says
-        why; the input is reported at its missing level until a message is used again."""
-        with self._lock:
-            self._refused = problem
 
     def arrival_age_s(self, now_s: float) -> float:
         """How long ago the newest message arrived, whatever its stamp (inf before the first)."""

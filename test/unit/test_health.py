@@ -113,8 +113,7 @@ def test_a_refused_message_is_reported_until_one_is_used():
     monitor = InputMonitor('camera_info', 1.0, WARN, topic='/camera/camera_info')
     monitor.received(10.0, 10.0)
     assert monitor.health(10.1).level == OK
-    monitor.received(10.2, 10.2)
-    monitor.refused('K is all zero')
+    monitor.received(10.2, 10.2, refused='K is all zero')
     refused = monitor.health(10.3)
     assert refused.level == WARN and 'K is all zero' in refused.message
     assert ('topic', '/camera/camera_info') in refused.values

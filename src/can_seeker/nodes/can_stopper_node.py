@@ -51,7 +51,8 @@ from can_seeker.control.twist_limits import ZERO, require_finite
 from can_seeker.health import ERROR, OK, WARN, Health, InputMonitor
 from can_seeker.msg import CanDetection
 from can_seeker.params import UnsafeParamError, read_params
-from can_seeker.ros.camera_pose import PUBLISH_HINT, CameraPoseSource, missing_transform
+from can_seeker.ros.camera_pose import (PUBLISH_HINT, UNSTAMPED, CameraPoseSource,
+                                        missing_transform)
 from can_seeker.ros.sensor_tf import SensorTf
 from can_seeker.ros.diagnostics import NodeDiagnostics
 from can_seeker.ros.messages import (controller_markers, occupancy_grid, path_msg, twist,
@@ -186,18 +187,19 @@ class CanStopperNode:
             return Health(OK, 'no red object seen yet')
         if missing is None:
             return Health(OK, 'from TF')
-        return Health(ERROR, '%s: detections give the can\'s side, no range' % missing,
-                      (('hint', PUBLISH_HINT),))
+        hint = () if missing == UNSTAMPED else (('hint', PUBLISH_HINT),)
+        return Health(ERROR, '%s: detections give the can\'s side, no range' % missing, hint)
 
     def on_camera_info(self, info):
         """The camera's intrinsics, for the floor footprint of each frame (:meth:`view_of`)."""
-        self.monitors['camera_info'].received(rospy.get_time(), info.header.stamp.to_sec())
         try:
             intrinsics = intrinsics_from_k(info.width, info.height, info.K)
         except ValueError as error:
-            self.monitors['camera_info'].refused(str(error))
+            self.monitors['camera_info'].received(rospy.get_time(), info.header.stamp.to_sec(),
+                                                  str(error))
             rospy.logerr_throttle(5.0, 'can_stopper: bad camera_info: %s' % error)
             return
+        self.monitors['camera_info'].received(rospy.get_time(), info.header.stamp.to_sec())
         with self.lock:
             self.intrinsics = intrinsics
             self.controller.observe_camera_info(rospy.get_time())

@@ -75,15 +75,16 @@ class ObstacleScanNode:
         return EmptyResponse()
 
     def on_camera_info(self, msg):
-        self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
         try:
             self.intrinsics = intrinsics_from_camera_info(
                 msg.width, msg.height, msg.K, msg.D, msg.P, msg.distortion_model,
                 self.config.image_rectified)
         except ValueError as error:
-            self.info_monitor.refused(str(error))
+            self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec(), str(error))
             rospy.logerr_throttle(ERROR_PERIOD_S, 'obstacle_scan: ignoring camera_info: %s'
                                   % error)
+            return
+        self.info_monitor.received(rospy.get_time(), msg.header.stamp.to_sec())
 
     def camera_intrinsics(self, msg):
         intrinsics = self.intrinsics

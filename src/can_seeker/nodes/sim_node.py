@@ -97,6 +97,9 @@ class SimNode:
             if problem:
                 rospy.logwarn('sim: ~gui is true but %s: running headless' % problem)
                 config.gui = False
+        # Advertised before the world is built, which takes seconds: the other nodes' clock
+        # status counts its publisher from their start.
+        self._clock_pub = _publisher('/clock', Clock, None if config.lockstep else 10)
         spec = camera_spec(config)
         world = World(urdf_path(), spec, config.physics_rate, config.renderer, config.gui,
                       config.can_color, config.scene, config.can_texture, config.profile)
@@ -123,7 +126,6 @@ class SimNode:
         # publishing hands every message for every subscriber to a thread of its own and yields
         # to it, most of this node's CPU time besides rendering.
         synchronous = self._gate is not None
-        self._clock_pub = _publisher('/clock', Clock, None if synchronous else 10)
         self._image_pub = rospy.Publisher('camera/image_raw', Image, queue_size=2)
         self._info_pub = rospy.Publisher('camera/camera_info', CameraInfo, queue_size=2)
         truth_queue = None if synchronous else TRUTH_QUEUE_SIZE
@@ -149,8 +151,9 @@ class SimNode:
         self._publish_world()
         self._frames = 0
         self._run_status = RunStatus()
-        self._commands = InputMonitor('cmd_vel_stamped' if self._gate else 'cmd_vel',
-                                      config.cmd_timeout, WARN)
+        command_topic = STAMPED_COMMAND_TOPIC if self._gate else 'cmd_vel'
+        self._commands = InputMonitor(command_topic, config.cmd_timeout, WARN,
+                                      topic=rospy.resolve_name(command_topic))
         self._lockstep_inputs = []
         if self._gate is None:
             rospy.Subscriber('cmd_vel', Twist, self._on_cmd_vel, queue_size=10)

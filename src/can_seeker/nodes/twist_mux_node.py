@@ -39,7 +39,9 @@ class TwistMuxNode:
         self.active_topic = None
         self.publish_active(rospy.get_time())
         # A silent input is normal (nobody at the keys): its status stays OK.
-        self.monitors = [InputMonitor(entry.topic, entry.timeout_s, OK) for entry in inputs]
+        self.monitors = [InputMonitor(entry.topic, entry.timeout_s, OK,
+                                      topic=rospy.resolve_name(entry.topic))
+                         for entry in inputs]
         self.diagnostics = NodeDiagnostics()
         self.diagnostics.add('output', self.output_health)
         for index, entry in enumerate(inputs):

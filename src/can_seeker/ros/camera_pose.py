@@ -38,8 +38,9 @@ PUBLISH_HINT = ('publish the camera mount in TF: roslaunch can_seeker robot_stat
 """How to give a node the transform it lacks."""
 
 
-UNSTAMPED = ('an empty frame_id, which TF cannot place: set the driver\'s frame id '
-             '(raspicam_node, usb_cam: camera_frame_id) to the sensor\'s frame in TF')
+UNSTAMPED = ('an empty frame_id, which TF cannot place: set the driver\'s frame id parameter '
+             '(camera_frame_id for raspicam_node and usb_cam, frame_id for most lidar '
+             'drivers) to the sensor\'s frame in TF')
 """What a message with an empty header.frame_id lacks (raspicam_node's default)."""
 
 
