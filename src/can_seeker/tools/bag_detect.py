@@ -30,7 +30,7 @@ from can_seeker.output_paths import default_output_dir
 from can_seeker.vision import report
 from can_seeker.vision.report import CanModel, can_report
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
-from can_seeker.ros.camera_pose import CameraPoseSource, missing_transform
+from can_seeker.ros.camera_pose import UNSTAMPED, CameraPoseSource, missing_transform
 from can_seeker.params import read_params
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_annotation
@@ -39,6 +39,9 @@ from can_seeker.vision.floor import FLOOR_PARAMS, FloorSettings
 DEFAULT_IMAGE_TOPIC = '/camera/image_raw'
 CAMERA_INFO_TYPE = 'sensor_msgs/CameraInfo'
 TOOL_PARAMS = report.REPORT_PARAMS + FLOOR_PARAMS + SCAN_PARAMS
+MOUNT_OPTIONS = ('a base frame other than base_link: --param base_frame=NAME --param '
+                 'scan_frame=NAME; a bag without the mount\'s TF: --camera-height M')
+"""What gives a frame whose transform the bag lacks a camera pose."""
 CSV_COLUMNS = ('stamp', 'found', 'centroid_x', 'centroid_y', 'area', 'bbox_x', 'bbox_y',
                'bbox_width', 'bbox_height', 'range', 'bearing', 'range_method', 'confidence')
 
@@ -171,16 +174,21 @@ class BagDetector:
 
     def camera_pose(self, msg):
         """The camera pose by the nodes' rule, on the bag's clock (the image stamps); a frame
-        without one is counted under the reason (``without_pose``: reason -> image stamps)."""
+        without one is counted under the reason (``without_pose``: reason -> frames)."""
         return self.counted_pose(self.camera_poses, msg)
 
     def counted_pose(self, poses, msg):
+        """The pose of ``msg``'s frame from ``poses`` (a CameraPoseSource), or None, counted
+        under the reason with what supplies the pose (``without_pose``)."""
         frame_id = msg.header.frame_id.lstrip('/')
         pose = poses.pose(frame_id, msg.header.stamp.to_sec())
         if pose is None:
-            reason = poses.problems.get(frame_id) or '%s in the bag' % missing_transform(
-                poses.base_frame, frame_id)
-            self.without_pose.setdefault(reason, set()).add(msg.header.stamp.to_sec())
+            reason = poses.problems.get(frame_id)
+            if reason is None:
+                reason = ('%s in the bag; %s' % (missing_transform(poses.base_frame, frame_id),
+                                                 MOUNT_OPTIONS)
+                          if frame_id else UNSTAMPED)
+            self.without_pose[reason] = self.without_pose.get(reason, 0) + 1
         return pose
 
     def on_image(self, msg, fps):
@@ -324,11 +332,9 @@ def main(argv=None):
     if args.scan_csv:
         print('bag_detect: camera scan of %d frames (the others had no camera geometry): %s' % (
             detector.scanned, args.scan_csv))
-    for reason, stamps in sorted(detector.without_pose.items()):
+    for reason, count in sorted(detector.without_pose.items()):
         print('bag_detect: %d frames without a camera pose (NaN range and bearing, no scan): '
-              '%s; a base frame other than base_link: --param base_frame=NAME --param '
-              'scan_frame=NAME; a bag without the mount\'s TF: --camera-height M'
-              % (len(stamps), reason), file=sys.stderr)
+              '%s' % (count, reason), file=sys.stderr)
     for reason, count in sorted(detector.skipped.items()):
         print('bag_detect: skipped %d of %d frames (no CSV row): %s' % (count, frames, reason),
               file=sys.stderr)
