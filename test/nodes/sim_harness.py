@@ -92,10 +92,12 @@ class SimHarness:
             return [touching for stamp, touching in self.contacts if stamp >= start_s]
 
     def settle(self, duration_s):
-        """Wait ``duration_s`` of sim time and until /odom has caught up with the clock."""
+        """Wait ``duration_s`` of sim time and until ground truth and /sim/can_pose (each a
+        connection of its own) have caught up with the clock."""
         rospy.sleep(duration_s)
         now_s = rospy.get_time()
-        self.wait_until(lambda: self.odom[-1][0] >= now_s - 0.05, 10.0)
+        self.wait_until(lambda: self.odom[-1][0] >= now_s - 0.05
+                        and self.can_pose.header.stamp.to_sec() >= now_s - 0.05, 10.0)
 
     def reset(self):
         """Robot back at the origin at rest."""
