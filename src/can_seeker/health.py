@@ -55,6 +55,31 @@ def clock_health(sim_time: bool, clock_s: float, clock_publishers: int,
                   'clock stands at 0; %s' % (unpublished_s, NO_CLOCK_HINT), values)
 
 
+class ClockWatch:
+    """The clock status over time (:func:`clock_health`): remembers when a /clock publisher
+    was last seen (wall clock; the start before any) and says when a WARN is due in the log
+    (at most every ``log_period_s``: rospy's throttled logging counts on the clock that stands
+    still). Used from one thread."""
+
+    def __init__(self, sim_time: bool, start_wall_s: float, log_period_s: float = 30.0):
+        self.sim_time = sim_time
+        self.log_period_s = log_period_s
+        self._published_wall_s = start_wall_s
+        self._logged_wall_s = -math.inf
+
+    def health(self, clock_s: float, clock_publishers: int,
+               now_wall_s: float) -> Tuple[Health, bool]:
+        """(the clock's Health now, whether to log it)."""
+        if clock_publishers:
+            self._published_wall_s = now_wall_s
+        health = clock_health(self.sim_time, clock_s, clock_publishers,
+                              now_wall_s - self._published_wall_s)
+        log = health.level >= WARN and now_wall_s - self._logged_wall_s >= self.log_period_s
+        if log:
+            self._logged_wall_s = now_wall_s
+        return health, log
+
+
 def worst(healths: Sequence[Health]) -> int:
     """The highest level among ``healths`` (OK for none)."""
     return max((health.level for health in healths), default=OK)

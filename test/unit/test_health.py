@@ -1,7 +1,7 @@
 """Input rates and ages, and the levels a node's diagnostics report them at."""
 import pytest
 
-from can_seeker.health import (CLOCK_GRACE_S, ERROR, NO_CLOCK_HINT, OK, WARN, Health, InputMonitor,
+from can_seeker.health import (CLOCK_GRACE_S, ERROR, ClockWatch, NO_CLOCK_HINT, OK, WARN, Health, InputMonitor,
                                Outcomes, clock_health, worst)
 from can_seeker.sim.status import RunStatus
 
@@ -119,3 +119,17 @@ def test_a_refused_message_is_reported_until_one_is_used():
     assert ('topic', '/camera/camera_info') in refused.values
     monitor.received(10.4, 10.4)
     assert monitor.health(10.5).level == OK
+
+
+def test_clock_watch_warns_once_a_publisher_is_gone_for_the_grace_and_logs_at_its_period():
+    watch = ClockWatch(True, start_wall_s=100.0, log_period_s=30.0)
+    assert watch.health(0.0, 0, 100.0 + CLOCK_GRACE_S - 1.0) == (
+        clock_health(True, 0.0, 0, CLOCK_GRACE_S - 1.0), False)
+    health, log = watch.health(0.0, 0, 100.0 + CLOCK_GRACE_S + 1.0)
+    assert health.level == WARN and log
+    assert watch.health(0.0, 0, 100.0 + CLOCK_GRACE_S + 2.0)[1] is False   # logged already
+    assert watch.health(0.0, 0, 100.0 + CLOCK_GRACE_S + 32.0)[1] is True
+    assert watch.health(5.0, 1, 200.0)[0].level == OK
+    assert watch.health(7.0, 0, 200.0 + CLOCK_GRACE_S - 1.0)[0].level == OK   # shutting down
+    gone, _ = watch.health(7.0, 0, 200.0 + CLOCK_GRACE_S + 1.0)
+    assert gone.level == WARN and '7.000' in gone.message

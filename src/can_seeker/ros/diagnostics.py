@@ -12,7 +12,7 @@ import diagnostic_updater
 import rospy
 from rosgraph_msgs.msg import Clock
 
-from can_seeker.health import WARN, InputMonitor, clock_health
+from can_seeker.health import WARN, ClockWatch, InputMonitor
 
 PERIOD_S = 1.0
 ERROR_PERIOD_S = 60.0
@@ -33,25 +33,19 @@ class NodeDiagnostics:
         self.updater = diagnostic_updater.Updater()
         self.updater.setHardwareID('none')
         self._thread = threading.Thread(target=self._publish, name='diagnostics', daemon=True)
-        self._clock_published_wall_s = time.monotonic()
-        """When a /clock publisher was last seen (wall clock; the start before any)."""
-        self._clock_logged_wall_s = -float('inf')
         self._clock_sub = None
         if clock:
-            if not rospy.rostime.is_wallclock():
+            sim_time = not rospy.rostime.is_wallclock()
+            if sim_time:
                 # rospy's own /clock connection, shared: it only counts the publishers
                 self._clock_sub = rospy.Subscriber('/clock', Clock, queue_size=1)
+            self._clock = ClockWatch(sim_time, time.monotonic(), CLOCK_WARN_PERIOD_S)
             self.add('clock', self._clock_health)
 
     def _clock_health(self):
         publishers = 0 if self._clock_sub is None else self._clock_sub.get_num_connections()
-        now_wall_s = time.monotonic()
-        if publishers:
-            self._clock_published_wall_s = now_wall_s
-        health = clock_health(self._clock_sub is not None, rospy.get_time(), publishers,
-                              now_wall_s - self._clock_published_wall_s)
-        if health.level >= WARN and now_wall_s - self._clock_logged_wall_s >= CLOCK_WARN_PERIOD_S:
-            self._clock_logged_wall_s = now_wall_s
+        health, log = self._clock.health(rospy.get_time(), publishers, time.monotonic())
+        if log:
             rospy.logwarn('%s: %s' % (rospy.get_name().lstrip('/'), health.message))
         return health
 

@@ -30,7 +30,7 @@ from can_seeker.output_paths import default_output_dir
 from can_seeker.vision import report
 from can_seeker.vision.report import CanModel, can_report
 from can_seeker.vision.image_decode import MESSAGE_DECODERS, ImageDecodeError, NoColourError
-from can_seeker.ros.camera_pose import UNSTAMPED, CameraPoseSource, missing_transform
+from can_seeker.ros.camera_pose import CameraPoseSource, missing_transform
 from can_seeker.params import read_params
 from can_seeker.vision.camera_scan import SCAN_PARAMS, CameraScanner, draw_obstacles
 from can_seeker.vision.detector import DetectorSettings, RedCanDetector, draw_annotation
@@ -183,11 +183,10 @@ class BagDetector:
         frame_id = msg.header.frame_id.lstrip('/')
         pose = poses.pose(frame_id, msg.header.stamp.to_sec())
         if pose is None:
-            reason = poses.problems.get(frame_id)
-            if reason is None:
-                reason = ('%s in the bag; %s' % (missing_transform(poses.base_frame, frame_id),
-                                                 MOUNT_OPTIONS)
-                          if frame_id else UNSTAMPED)
+            # missing_transform names an empty frame_id's fault itself: no mount options then
+            missing = missing_transform(poses.base_frame, frame_id)
+            reason = poses.problems.get(frame_id) or (
+                '%s in the bag; %s' % (missing, MOUNT_OPTIONS) if frame_id else missing)
             self.without_pose[reason] = self.without_pose.get(reason, 0) + 1
         return pose
 
