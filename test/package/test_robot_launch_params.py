@@ -77,3 +77,20 @@ def test_the_image_topic_follows_the_camera_and_image_arguments():
     pi = image_remaps('robot:=turtlebot3_waffle_pi', 'camera:=raspicam_node', 'image:=image',
                       'image_transport:=compressed')
     assert pi == {'image_converter': 'raspicam_node/image', 'obstacle_scan': 'raspicam_node/image'}
+
+
+def test_the_profile_is_checked_before_any_node_starts(tmp_path):
+    """A profile robot_params refuses stops roslaunch with its reason, as in the simulator."""
+    good = (REPO / 'config' / 'robots' / 'turtlebot3_waffle_pi.yaml').read_text()
+    assert dump('robot:=turtlebot3_waffle_pi')['/robot_profile_name'] == 'turtlebot3_waffle_pi'
+    bad = tmp_path / 'small_waffle.yaml'
+    bad.write_text(good.replace('body_radius_m: &body_radius_m 0.238',
+                                'body_radius_m: &body_radius_m 0.1'))
+    # roslaunch itself, port of its own: it exits while loading, before starting a master
+    result = subprocess.run(['roslaunch', '-p', '11397', str(REPO / 'launch' / 'robot.launch'),
+                             'robot:=%s' % bad], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, universal_newlines=True, check=False,
+                            timeout=60)
+    assert result.returncode == 1, result.stdout
+    assert 'body_radius_m 0.1 does not hold the footprint' in result.stdout
+    assert 'started roslaunch server' not in result.stdout

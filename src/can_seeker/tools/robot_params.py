@@ -4,7 +4,9 @@
 prints its node sections (the parameters robot.launch loads for image_converter, obstacle_scan
 and can_stopper) and the ``roslaunch can_seeker robot.launch ...`` line with the driver's
 topics from the profile's ``topics`` (roslaunch takes remappings from arguments only).
-Exits 1 with the reason when the profile is wrong.
+Exits 1 with the reason when the profile is wrong. ``--check`` prints only the profile's name:
+robot.launch sets its ``robot_profile_name`` parameter from it, so roslaunch stops with the reason
+before any node starts on a wrong profile.
 """
 import argparse
 import os
@@ -18,6 +20,9 @@ from can_seeker.robot_profile import ProfileError, launch_arguments, load_profil
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('robot', help="a name in the package's config/robots/ or a YAML path")
+    parser.add_argument('--check', action='store_true',
+                        help="print only the profile's name (robot.launch's robot_profile_name "
+                        "parameter), or exit 1 with the reason it is wrong")
     args = parser.parse_args(argv)
     search = []
     robot = os.path.abspath(args.robot) if os.path.isfile(args.robot) else None
@@ -28,6 +33,9 @@ def main(argv=None):
         profile = load_profile(args.robot, search)
     except ProfileError as error:
         sys.exit('robot_params: %s' % error)
+    if args.check:
+        sys.stdout.write(profile.name)
+        return
     print('# node parameters from the figures of %s' % profile.name)
     sys.stdout.write(yaml.safe_dump(node_params(profile), default_flow_style=False))
     print('# bring it up:\n# %s' % launch_arguments(profile, robot))
