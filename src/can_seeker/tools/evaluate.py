@@ -7,7 +7,8 @@ services. Options choose the world (``--world``, ``--randomize-appearance``,
 ``--randomize-mount``, ``--robot``), the senses (``--realism``, ``--scan-topics``), any node
 parameter (``--param``), a sweep over settings (``--sweep``), where the trials run (``--jobs``,
 ``--cluster``: every trial a Dask task, each worker with a ROS system of its own), second runs
-that compare final poses (``--repeat-check``, ``--cpu-features-check``), and the records
+that compare final poses (``--repeat-check``, ``--cpu-features-check``), a comparison with an
+earlier record of the same trials (``--compare-with``: before and after a change), and the records
 (``--json`` after every trial, ``--resume``, ``--result`` for docs/results/). Prints a summary
 table; exits 1 when a trial failed. All options: docs/tools.md.
 """
@@ -138,6 +139,12 @@ def parse_args(argv):
                         'and final poses agree within %g mm and %g deg'
                         % (DISABLE_VARIABLE, 1000.0 * REPEAT_POSITION_TOLERANCE_M,
                            REPEAT_YAW_TOLERANCE_DEG))
+    parser.add_argument('--compare-with', metavar='FILE',
+                        help='an earlier --json record of the same trials (another commit, '
+                        'another machine): report the largest per-trial difference from it; '
+                        'exit 1 unless outcomes match and final poses agree within %g mm and '
+                        '%g deg (a record of other settings is refused before any trial runs)'
+                        % (1000.0 * REPEAT_POSITION_TOLERANCE_M, REPEAT_YAW_TOLERANCE_DEG))
     parser.add_argument('--json', metavar='FILE',
                         help='write the results as JSON, again after every finished trial')
     parser.add_argument('--result', metavar='FILE',
@@ -171,6 +178,8 @@ def parse_args(argv):
         parser.error('--resume needs --json FILE')
     if args.result and args.sweep:
         parser.error('--result records one evaluation, not a --sweep')
+    if args.compare_with and args.sweep:
+        parser.error('--compare-with compares one evaluation, not a --sweep')
     if args.resume and (args.sweep or args.repeat_check or args.cpu_features_check):
         parser.error('--resume continues one evaluation, not a --sweep, --repeat-check or '
                      '--cpu-features-check')
@@ -243,6 +252,21 @@ def system_spec(args, run=0, wide_kernels=True):
     log_dir = os.path.abspath(args.log_dir) if args.log_dir else None
     return SystemSpec.of(launch_args(args), dict(args.param), args.time_limit, run, log_dir,
                          wide_kernels)
+
+
+def earlier_ledger(path, evaluation_settings):
+    """The trials of the earlier ``--json`` record at ``path``, for a comparison with the
+    evaluation ``evaluation_settings`` describes; ValueError when it cannot be read or is of
+    another evaluation."""
+    try:
+        with open(path) as stream:
+            record = json.load(stream)
+    except (OSError, ValueError) as error:
+        raise ValueError('cannot read %s: %s' % (path, error))
+    try:
+        return TrialLedger.from_record(record, evaluation_settings)
+    except (KeyError, TypeError) as error:
+        raise ValueError('%s is not an evaluate --json record (%s)' % (path, error))
 
 
 def new_ledger(args):
@@ -382,7 +406,15 @@ def main():
     except ValueError as error:
         print('evaluate: cannot resume %s: %s' % (args.json, error), file=sys.stderr)
         sys.exit(2)
-    repeat, cpu_check, not_run, interrupted, engine = None, None, [], False, None
+    earlier = None
+    if args.compare_with:
+        try:
+            earlier = earlier_ledger(args.compare_with, settings(args))
+        except ValueError as error:
+            print('evaluate: cannot compare with %s: %s' % (args.compare_with, error),
+                  file=sys.stderr)
+            sys.exit(2)
+    repeat, cpu_check, compared, not_run, interrupted, engine = None, None, None, [], False, None
     try:
         if ledger.missing():
             engine = Engine(args.jobs, args.cluster)
@@ -401,6 +433,9 @@ def main():
         print('evaluate: interrupted; summarising the %d finished trials'
               % len(ledger.results()), file=sys.stderr)
     results, record_settings = ledger.results(), ledger.settings
+    if earlier is not None and not interrupted:
+        compared = report_repeat(earlier.results(), results,
+                                 'comparison with %s' % args.compare_with)
     summary = dict(ledger.summary(), **batch_cpu(engine))
     if record_settings.get('robot'):
         camera = 'robot %s (its camera), time limit %.0f s' % (record_settings['robot'],
@@ -428,6 +463,8 @@ def main():
             record['repeat_check'] = repeat
         if cpu_check is not None:
             record['cpu_features_check'] = cpu_check
+        if compared is not None:
+            record['compared_with'] = dict(compared, record=args.compare_with)
         write_json_atomically(args.json, record)
         print('results written to %s' % args.json)
     if args.result:
@@ -436,7 +473,8 @@ def main():
                   file=sys.stderr)
         else:
             figures = dict(summary)
-            for name, comparison in (('repeat_check', repeat), ('cpu_features_check', cpu_check)):
+            for name, comparison in (('repeat_check', repeat), ('cpu_features_check', cpu_check),
+                                     ('compared_with', compared)):
                 if comparison is not None:
                     figures[name] = comparison
             write_result(args.result, result_record('evaluate', command_line('evaluate', argv),
@@ -445,5 +483,6 @@ def main():
     if interrupted:
         sys.exit(130)
     ok = bool(results) and not not_run and summary['successes'] == summary['trials']
-    checks = [check['repeatable'] for check in (repeat, cpu_check) if check is not None]
+    checks = [check['repeatable'] for check in (repeat, cpu_check, compared)
+              if check is not None]
     sys.exit(0 if ok and all(checks) else 1)
