@@ -18,6 +18,7 @@ import tempfile
 import time
 
 import pytest
+import yaml
 
 from launch_process import stop_launch
 
@@ -210,6 +211,15 @@ def test_modules_scripts_and_launch_files_come_from_the_install_space(install_sp
     for script in package_scripts():
         result = install_space.run(['rosrun', '--prefix', 'echo', PACKAGE, script], 60)
         assert result.stdout.strip() == str(install_space.prefix / 'lib' / PACKAGE / script)
+
+
+def test_robot_launch_checks_its_profile_with_the_installed_tool(install_space):
+    """robot.launch runs robot_params --check while loading: from the install space too."""
+    result = install_space.run(['roslaunch', '--dump-params', PACKAGE, 'robot.launch',
+                                'robot:=turtlebot3_burger'], 120)
+    assert result.returncode == 0, result.stdout
+    assert yaml.safe_load(result.stdout)['/robot_profile_name'] == 'turtlebot3_burger', \
+        result.stdout
 
 
 def test_demo_launch_finds_the_can_and_stops_in_front_of_it(install_space, tmp_path):

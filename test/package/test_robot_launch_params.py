@@ -1,10 +1,14 @@
 """robot.launch gives each node the profile's values over its launch defaults, and the user's
 params file over the profile: what roslaunch would set (--dump-params), no master needed."""
+import os
 import pathlib
+import signal
 import subprocess
 
 import pytest
 import yaml
+
+from can_seeker.tools.closed_loop import free_port
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
@@ -83,14 +87,23 @@ def test_the_profile_is_checked_before_any_node_starts(tmp_path):
     """A profile robot_params refuses stops roslaunch with its reason, as in the simulator."""
     good = (REPO / 'config' / 'robots' / 'turtlebot3_waffle_pi.yaml').read_text()
     assert dump('robot:=turtlebot3_waffle_pi')['/robot_profile_name'] == 'turtlebot3_waffle_pi'
+    small = good.replace('body_radius_m: &body_radius_m 0.238',
+                         'body_radius_m: &body_radius_m 0.1')
+    assert small != good
     bad = tmp_path / 'small_waffle.yaml'
-    bad.write_text(good.replace('body_radius_m: &body_radius_m 0.238',
-                                'body_radius_m: &body_radius_m 0.1'))
-    # roslaunch itself, port of its own: it exits while loading, before starting a master
-    result = subprocess.run(['roslaunch', '-p', '11397', str(REPO / 'launch' / 'robot.launch'),
-                             'robot:=%s' % bad], stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, universal_newlines=True, check=False,
-                            timeout=60)
-    assert result.returncode == 1, result.stdout
-    assert 'body_radius_m 0.1 does not hold the footprint' in result.stdout
-    assert 'started roslaunch server' not in result.stdout
+    bad.write_text(small)
+    # roslaunch itself, on a port of its own: it exits while loading, before starting a master
+    # (if it did start one, its whole process group goes at the time-out)
+    launch = subprocess.Popen(['roslaunch', '-p', str(free_port()),
+                               str(REPO / 'launch' / 'robot.launch'), 'robot:=%s' % bad],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                              universal_newlines=True, start_new_session=True)
+    try:
+        output, _ = launch.communicate(timeout=60)
+    finally:
+        if launch.poll() is None:
+            os.killpg(launch.pid, signal.SIGKILL)
+            launch.wait()
+    assert launch.returncode == 1, output
+    assert 'body_radius_m 0.1 does not hold the footprint' in output
+    assert 'started roslaunch server' not in output

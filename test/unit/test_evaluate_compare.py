@@ -50,6 +50,12 @@ def test_what_is_no_record_is_refused(tmp_path):
             earlier_ledger(str(tmp_path / name), settings(parse_args([])))
 
 
+def test_the_earlier_record_is_never_the_one_written(tmp_path):
+    with pytest.raises(SystemExit):
+        parse_args(['--compare-with', str(tmp_path / 'a.json'), '--json',
+                    str(tmp_path / '.' / 'a.json')])
+
+
 def test_evaluate_refuses_a_record_of_other_trials_before_starting_anything(tmp_path):
     path = record_of(['--trials', '1', '--seed', '70'], [result(0)], tmp_path / 'before.json')
     run = subprocess.run(['rosrun', 'can_seeker', 'evaluate', '--trials', '1', '--seed', '71',

@@ -76,6 +76,14 @@ def test_a_cpu_features_check_in_a_result_is_shown_beside_its_figures():
     assert 'SIMD' not in readme_table([('a.json', EVALUATE)])
 
 
+def test_a_comparison_with_an_earlier_record_is_shown_naming_it():
+    compared = dict(EVALUATE, figures=dict(EVALUATE['figures'], compared_with={
+        'outcome_differs': [3], 'max_position_diff_mm': 12.5, 'max_yaw_diff_deg': 0.25,
+        'record': 'before.json'}))
+    text = 'against before.json: outcomes differ in [3], 12.5000 mm, 0.2500 deg'
+    assert text in results_markdown([('a.json', compared)])
+
+
 def test_the_readme_table_goes_between_the_markers_only():
     readme = 'intro\n%s\nold table\n%s\nrest\n' % (README_BEGIN, README_END)
     assert with_readme_table(readme, 'T') == 'intro\n%s\nT\n%s\nrest\n' % (README_BEGIN,

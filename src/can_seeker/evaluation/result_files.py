@@ -124,18 +124,21 @@ def _evaluate_cells(figures: dict) -> List[str]:
             '' if timeouts is None else str(timeouts), check_text(figures)]
 
 
-CHECKS = (('repeat_check', 'the same'), ('cpu_features_check', 'without wide SIMD kernels'))
-"""The second runs evaluate can make of the same trials, and how a table names each."""
+CHECKS = (('repeat_check', 'the same'), ('cpu_features_check', 'without wide SIMD kernels'),
+          ('compared_with', 'against %(record)s'))
+"""The comparisons evaluate can make of the same trials (a second run, or an earlier record),
+and how a table names each (with the comparison's fields)."""
 
 
 def check_text(figures: dict) -> str:
-    """The repeat and CPU-features checks a result holds, in words (empty: none ran)."""
+    """The repeat and CPU-features checks and the comparison with an earlier record a result
+    holds, in words (empty: none)."""
     texts = []
     for key, label in CHECKS:
         check = figures.get(key)
         if check:
             texts.append('%s: %s, %s mm, %s deg' % (
-                label, 'same outcomes' if not check.get('outcome_differs') else
+                label % check, 'same outcomes' if not check.get('outcome_differs') else
                 'outcomes differ in %s' % check['outcome_differs'],
                 _number(check.get('max_position_diff_mm'), digits=4),
                 _number(check.get('max_yaw_diff_deg'), digits=4)))

@@ -180,6 +180,10 @@ def parse_args(argv):
         parser.error('--result records one evaluation, not a --sweep')
     if args.compare_with and args.sweep:
         parser.error('--compare-with compares one evaluation, not a --sweep')
+    if (args.compare_with and args.json
+            and os.path.realpath(args.compare_with) == os.path.realpath(args.json)):
+        parser.error('--compare-with needs the earlier record kept: --json must name another '
+                     'file')
     if args.resume and (args.sweep or args.repeat_check or args.cpu_features_check):
         parser.error('--resume continues one evaluation, not a --sweep, --repeat-check or '
                      '--cpu-features-check')
@@ -434,8 +438,9 @@ def main():
               % len(ledger.results()), file=sys.stderr)
     results, record_settings = ledger.results(), ledger.settings
     if earlier is not None and not interrupted:
-        compared = report_repeat(earlier.results(), results,
-                                 'comparison with %s' % args.compare_with)
+        compared = dict(report_repeat(earlier.results(), results,
+                                      'comparison with %s' % args.compare_with),
+                        record=args.compare_with)
     summary = dict(ledger.summary(), **batch_cpu(engine))
     if record_settings.get('robot'):
         camera = 'robot %s (its camera), time limit %.0f s' % (record_settings['robot'],
@@ -464,7 +469,7 @@ def main():
         if cpu_check is not None:
             record['cpu_features_check'] = cpu_check
         if compared is not None:
-            record['compared_with'] = dict(compared, record=args.compare_with)
+            record['compared_with'] = compared
         write_json_atomically(args.json, record)
         print('results written to %s' % args.json)
     if args.result:
