@@ -1,25 +1,18 @@
 """playback.launch feeds a bag's camera to image_converter as it was recorded: raw Images, or
 CompressedImages (raspicam_node's image/compressed) with image_transport:=compressed. What
 roslaunch would set (--dump-params and its loader), no master needed."""
-import pathlib
-import subprocess
-
 import roslaunch.config
-import yaml
 
-LAUNCH = pathlib.Path(__file__).resolve().parents[2] / 'launch' / 'playback.launch'
+from launch_query import LAUNCH_DIR, dumped_params
 
 
 def launched(*args):
     """(parameters, image_converter's remaps) of playback.launch with ``args``."""
-    result = subprocess.run(['roslaunch', '--dump-params', str(LAUNCH), 'bag:=/tmp/run.bag']
-                            + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            universal_newlines=True, check=False)
-    assert result.returncode == 0, result.stdout
+    args = ('bag:=/tmp/run.bag',) + args
     config = roslaunch.config.load_config_default(
-        [(str(LAUNCH), ['bag:=/tmp/run.bag'] + list(args))], None)
+        [(str(LAUNCH_DIR / 'playback.launch'), list(args))], None)
     node = next(node for node in config.nodes if node.name == 'image_converter')
-    return yaml.safe_load(result.stdout), dict(node.remap_args)
+    return dumped_params('playback.launch', *args), dict(node.remap_args)
 
 
 def test_a_bag_of_raw_images_is_read_raw():

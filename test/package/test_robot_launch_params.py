@@ -6,19 +6,15 @@ import signal
 import subprocess
 
 import pytest
-import yaml
 
 from can_seeker.tools.closed_loop import free_port
+from launch_query import dumped_params
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
 
 def dump(*args):
-    result = subprocess.run(['roslaunch', '--dump-params', str(REPO / 'launch' / 'robot.launch')]
-                            + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            universal_newlines=True, check=False)
-    assert result.returncode == 0, result.stdout
-    return yaml.safe_load(result.stdout)
+    return dumped_params('robot.launch', *args)
 
 
 def test_the_profile_wins_over_the_node_defaults():

@@ -1,19 +1,10 @@
 """view.launch: the 'origin' window takes the camera through the image_transport asked for, so
 a compressed camera (raspicam_node) shows where the compressed plugin is installed."""
-import pathlib
-import subprocess
-
-import yaml
-
-LAUNCH = pathlib.Path(__file__).resolve().parents[2] / 'launch' / 'view.launch'
+from launch_query import dumped_params
 
 
 def params(*args):
-    result = subprocess.run(['roslaunch', '--dump-params', str(LAUNCH)] + list(args),
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            universal_newlines=True, check=False)
-    assert result.returncode == 0, result.stdout
-    return yaml.safe_load(result.stdout)
+    return dumped_params('view.launch', *args)
 
 
 def test_the_camera_window_is_raw_by_default():
