@@ -259,9 +259,9 @@ def system_spec(args, run=0, wide_kernels=True):
 
 
 def earlier_ledger(path, evaluation_settings):
-    """The trials of the earlier ``--json`` record at ``path``, for a comparison with the
-    evaluation ``evaluation_settings`` describes; ValueError when it cannot be read or is of
-    another evaluation."""
+    """The trials of the earlier ``--json`` record at ``path``, to resume or to compare with
+    the evaluation ``evaluation_settings`` describes; ValueError when it cannot be read or is
+    of another evaluation."""
     try:
         with open(path) as stream:
             record = json.load(stream)
@@ -278,8 +278,7 @@ def new_ledger(args):
     record holds."""
     if not (args.resume and os.path.exists(args.json)):
         return TrialLedger(settings(args))
-    with open(args.json) as record:
-        ledger = TrialLedger.from_record(json.load(record), settings(args))
+    ledger = earlier_ledger(args.json, settings(args))
     print('evaluate: resuming %s: %d trials done, %d to run'
           % (args.json, len(ledger.results()), len(ledger.missing())), file=sys.stderr)
     return ledger
